@@ -1,0 +1,247 @@
+//! The pinhole camera, in raypack's one convention.
+//!
+//! Right-handed; eye `E`, look-at `L`, up `U`, vertical field of view `vfov`
+//! (full angle between the top and bottom image edges), image `W × H`:
+//! `f = normalize(L − E)`, `r = normalize(f × U)`, `u = r × f`. Pixel
+//! `(i, j)` (column from the left, row from the top) is sampled at its centre:
+//! `sx = (2(i + ½)/W − 1)·tan(vfov/2)·W/H`, `sy = (1 − 2(j + ½)/H)·tan(vfov/2)`,
+//! `dir = normalize(f + sx·r + sy·u)`.
+//!
+//! Packets cover adjacent pixels: 1×1 for width 1, 2×2 for 4, 4×2 for 8,
+//! 4×4 for 16 (see [`packet_shape`]).
+
+use crate::lanes::{Lanes, Mask};
+use crate::ray::RayPacket;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+
+/// Why a camera could not be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CameraError {
+    /// A number is NaN or infinite.
+    NonFinite,
+    /// The eye and the look-at point coincide.
+    EyeAtTarget,
+    /// The up vector is zero or parallel to the view direction.
+    UpParallel,
+    /// The field of view is not strictly between 0 and 180 degrees.
+    FieldOfView,
+    /// The image has no pixels, or more than 65 535 in a dimension.
+    ImageSize,
+}
+
+impl core::fmt::Display for CameraError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            CameraError::NonFinite => "camera numbers must be finite",
+            CameraError::EyeAtTarget => "the camera's eye and look-at point coincide",
+            CameraError::UpParallel => "the up vector is zero or parallel to the view direction",
+            CameraError::FieldOfView => "the field of view must be between 0 and 180 degrees",
+            CameraError::ImageSize => "the image size must be between 1 and 65535 pixels per side",
+        })
+    }
+}
+
+/// Pixels covered by a packet of width `W`: `(columns, rows)`.
+pub const fn packet_shape(w: usize) -> (u32, u32) {
+    match w {
+        1 => (1, 1),
+        2 => (2, 1),
+        4 => (2, 2),
+        8 => (4, 2),
+        16 => (4, 4),
+        n => (n as u32, 1),
+    }
+}
+
+/// A pixel rectangle: columns `x .. x + w`, rows `y .. y + h`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rect {
+    /// First column.
+    pub x: u32,
+    /// First row.
+    pub y: u32,
+    /// Width in pixels.
+    pub w: u32,
+    /// Height in pixels.
+    pub h: u32,
+}
+
+/// A pinhole camera for an image of a given size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera<S> {
+    eye: Vec3<S>,
+    forward: Vec3<S>,
+    right: Vec3<S>,
+    up: Vec3<S>,
+    width: u32,
+    height: u32,
+    /// `tan(vfov/2)·W/H`.
+    sx_scale: S,
+    /// `tan(vfov/2)`.
+    sy_scale: S,
+    /// Image size as scalars.
+    w_s: S,
+    h_s: S,
+}
+
+impl<S: Scalar> Camera<S> {
+    /// A camera at `eye` looking at `look_at`, with `up` (any length, not
+    /// parallel to the view direction), vertical field of view `vfov_deg`
+    /// degrees, for a `width × height` image.
+    pub fn new(eye: Vec3<S>, look_at: Vec3<S>, up: Vec3<S>, vfov_deg: f32, width: u32, height: u32) -> Result<Self, CameraError> {
+        if !eye.is_finite() || !look_at.is_finite() || !up.is_finite() || !vfov_deg.is_finite() {
+            return Err(CameraError::NonFinite);
+        }
+        if width == 0 || height == 0 || width > 65535 || height > 65535 {
+            return Err(CameraError::ImageSize);
+        }
+        if !(vfov_deg > 0.0 && vfov_deg < 180.0) {
+            return Err(CameraError::FieldOfView);
+        }
+        let forward = (look_at - eye).normalize_or_zero();
+        if forward == Vec3::ZERO {
+            return Err(CameraError::EyeAtTarget);
+        }
+        let right = forward.cross(up).normalize_or_zero();
+        if right == Vec3::ZERO {
+            return Err(CameraError::UpParallel);
+        }
+        let up = right.cross(forward);
+        // tan of the half angle, from libm (bit-identical on every target),
+        // converted once.
+        let half = vfov_deg * (core::f32::consts::PI / 360.0);
+        let tan_half = S::from_f32(libm::tanf(half));
+        let w_s = S::from_i32(width as i32);
+        let h_s = S::from_i32(height as i32);
+        Ok(Camera {
+            eye,
+            forward,
+            right,
+            up,
+            width,
+            height,
+            sx_scale: tan_half * (w_s / h_s),
+            sy_scale: tan_half,
+            w_s,
+            h_s,
+        })
+    }
+
+    /// Image width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+    /// Image height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+    /// The eye point.
+    pub fn eye(&self) -> Vec3<S> {
+        self.eye
+    }
+    /// The orthonormal frame `(forward, right, up)`.
+    pub fn frame(&self) -> (Vec3<S>, Vec3<S>, Vec3<S>) {
+        (self.forward, self.right, self.up)
+    }
+    /// The whole image as a rectangle.
+    pub fn full_rect(&self) -> Rect {
+        Rect { x: 0, y: 0, w: self.width, h: self.height }
+    }
+
+    /// The packet of primary rays whose top-left pixel is `(x, y)`, laid out
+    /// as [`packet_shape`]`(W)`; lanes whose pixel falls outside `clip` (or
+    /// the image) are inactive in the returned mask.
+    #[inline]
+    pub fn packet<const W: usize>(&self, x: u32, y: u32, clip: Rect) -> (RayPacket<S, W>, Mask<W>) {
+        let (pw, _) = packet_shape(W);
+        let mut sx = Lanes::<S, W>::zero();
+        let mut sy = Lanes::<S, W>::zero();
+        let mut inside = Mask::<W>::splat(false);
+        let two = S::TWO;
+        for l in 0..W {
+            let i = x + (l as u32 % pw);
+            let j = y + (l as u32 / pw);
+            inside.0[l] = i >= clip.x
+                && i - clip.x < clip.w
+                && j >= clip.y
+                && j - clip.y < clip.h
+                && i < self.width
+                && j < self.height;
+            // Screen coordinates of the pixel centre (see the module docs).
+            let i = if inside.0[l] { i } else { 0 };
+            let j = if inside.0[l] { j } else { 0 };
+            let ci = S::from_i32(i as i32) * two + S::ONE;
+            let cj = S::from_i32(j as i32) * two + S::ONE;
+            sx.0[l] = (ci / self.w_s - S::ONE) * self.sx_scale;
+            sy.0[l] = (S::ONE - cj / self.h_s) * self.sy_scale;
+        }
+        let dir = self.forward.splat::<W>() + self.right.splat::<W>().scale(sx) + self.up.splat::<W>().scale(sy);
+        let (ray, ok) = RayPacket::new(self.eye.splat(), dir);
+        (ray, ok & inside)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cam(w: u32, h: u32) -> Camera<f32> {
+        Camera::new(
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, -1.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            90.0,
+            w,
+            h,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn frame_follows_convention() {
+        let c = cam(4, 2);
+        let (f, r, u) = c.frame();
+        assert_eq!(f, Vec3::new(0.0, 0.0, -1.0));
+        assert_eq!(r, Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(u, Vec3::new(0.0, 1.0, 0.0));
+    }
+
+    #[test]
+    fn corner_pixel_direction() {
+        // 90° vfov: tan = 1; 4×2 image: aspect 2. Pixel (0,0): sx = (1/4 − 1)·2 = −1.5, sy = 1 − 1/2 = 0.5.
+        let c = cam(4, 2);
+        let (ray, m) = c.packet::<1>(0, 0, c.full_rect());
+        assert!(m.0[0]);
+        let d = ray.dir.lane(0);
+        let e = Vec3::new(-1.5f32, 0.5, -1.0).normalize_or_zero();
+        assert!((d - e).length() < 1e-6, "{d:?}");
+    }
+
+    #[test]
+    fn packet_lanes_are_adjacent_pixels_and_clip() {
+        let c = cam(5, 3);
+        let (p8, m8) = c.packet::<8>(4, 2, c.full_rect());
+        // Only the top-left lane (4, 2) is inside a 5×3 image.
+        assert_eq!(m8.0, [true, false, false, false, false, false, false, false]);
+        let (p1, _) = c.packet::<1>(4, 2, c.full_rect());
+        assert_eq!(p8.dir.lane(0), p1.dir.lane(0));
+        let (p4, m4) = c.packet::<4>(0, 0, c.full_rect());
+        assert!(m4.all());
+        let (q, _) = c.packet::<1>(1, 1, c.full_rect());
+        assert_eq!(p4.dir.lane(3), q.dir.lane(0));
+    }
+
+    #[test]
+    fn bad_cameras_are_errors() {
+        let o = Vec3::new(0.0f32, 0.0, 0.0);
+        let z = Vec3::new(0.0f32, 0.0, 1.0);
+        let y = Vec3::new(0.0f32, 1.0, 0.0);
+        assert_eq!(Camera::new(o, o, y, 45.0, 4, 4), Err(CameraError::EyeAtTarget));
+        assert_eq!(Camera::new(o, z, z, 45.0, 4, 4), Err(CameraError::UpParallel));
+        assert_eq!(Camera::new(o, z, Vec3::ZERO, 45.0, 4, 4), Err(CameraError::UpParallel));
+        assert_eq!(Camera::new(o, z, y, 180.0, 4, 4), Err(CameraError::FieldOfView));
+        assert_eq!(Camera::new(o, z, y, f32::NAN, 4, 4), Err(CameraError::NonFinite));
+        assert_eq!(Camera::new(o, z, y, 45.0, 0, 4), Err(CameraError::ImageSize));
+    }
+}

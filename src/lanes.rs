@@ -1,0 +1,306 @@
+//! Structure-of-arrays lanes and masks: the vocabulary of packet code.
+//!
+//! [`Lanes<S, W>`] is `W` scalars side by side; every operation is a plain
+//! loop over `W` that LLVM turns into packed instructions once the width is
+//! known. [`Mask<W>`] says which lanes take part. Packet code is written as
+//! straight-line lane arithmetic with masks as its control flow:
+//!
+//! ```
+//! use raypack::lanes::{Lanes, Mask};
+//! let t = Lanes::<f32, 4>([1.0, -2.0, 3.0, 0.5]);
+//! let mut valid = Mask::<4>::splat(true);
+//! valid &= t.gt(Lanes::splat(0.0));        // narrow the active lanes
+//! if valid.none() { return; }              // early exit: nothing left
+//! let best = Lanes::select(valid, t, Lanes::splat(f32::MAX)); // masked commit
+//! assert_eq!(best.0, [1.0, f32::MAX, 3.0, 0.5]);
+//! ```
+//!
+//! The scalar tracer is the width-1 packet: `Lanes<S, 1>` runs the same code.
+
+use crate::scalar::Scalar;
+use core::ops::{Add, BitAnd, BitAndAssign, BitOr, BitOrAssign, BitXor, Div, Mul, Neg, Not, Sub};
+
+/// `W` scalars processed together, one per ray of a packet.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(transparent)]
+pub struct Lanes<S, const W: usize>(pub [S; W]);
+
+/// Which lanes of a packet are active (`true`) or have some property.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(transparent)]
+pub struct Mask<const W: usize>(pub [bool; W]);
+
+impl<const W: usize> Mask<W> {
+    /// Every lane set to `v`.
+    #[inline(always)]
+    pub const fn splat(v: bool) -> Self {
+        Mask([v; W])
+    }
+    /// Whether any lane is set.
+    #[inline(always)]
+    pub fn any(self) -> bool {
+        let mut r = false;
+        for i in 0..W {
+            r |= self.0[i];
+        }
+        r
+    }
+    /// Whether no lane is set.
+    #[inline(always)]
+    pub fn none(self) -> bool {
+        !self.any()
+    }
+    /// Whether every lane is set.
+    #[inline(always)]
+    pub fn all(self) -> bool {
+        let mut r = true;
+        for i in 0..W {
+            r &= self.0[i];
+        }
+        r
+    }
+    /// Number of set lanes.
+    #[inline(always)]
+    pub fn count(self) -> u32 {
+        let mut n = 0;
+        for i in 0..W {
+            n += self.0[i] as u32;
+        }
+        n
+    }
+    /// Lanes set here and not in `other`.
+    #[inline(always)]
+    pub fn and_not(self, other: Self) -> Self {
+        self & !other
+    }
+}
+
+impl<const W: usize> BitAnd for Mask<W> {
+    type Output = Self;
+    #[inline(always)]
+    fn bitand(self, o: Self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] &= o.0[i];
+        }
+        Mask(r)
+    }
+}
+impl<const W: usize> BitOr for Mask<W> {
+    type Output = Self;
+    #[inline(always)]
+    fn bitor(self, o: Self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] |= o.0[i];
+        }
+        Mask(r)
+    }
+}
+impl<const W: usize> BitXor for Mask<W> {
+    type Output = Self;
+    #[inline(always)]
+    fn bitxor(self, o: Self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] ^= o.0[i];
+        }
+        Mask(r)
+    }
+}
+impl<const W: usize> Not for Mask<W> {
+    type Output = Self;
+    #[inline(always)]
+    fn not(self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] = !r[i];
+        }
+        Mask(r)
+    }
+}
+impl<const W: usize> BitAndAssign for Mask<W> {
+    #[inline(always)]
+    fn bitand_assign(&mut self, o: Self) {
+        *self = *self & o;
+    }
+}
+impl<const W: usize> BitOrAssign for Mask<W> {
+    #[inline(always)]
+    fn bitor_assign(&mut self, o: Self) {
+        *self = *self | o;
+    }
+}
+
+macro_rules! lane_cmp {
+    ($(#[$m:meta])* $name:ident, $op:tt) => {
+        $(#[$m])*
+        #[inline(always)]
+        pub fn $name(self, o: Self) -> Mask<W> {
+            let mut r = [false; W];
+            for i in 0..W {
+                r[i] = self.0[i] $op o.0[i];
+            }
+            Mask(r)
+        }
+    };
+}
+
+impl<S: Scalar, const W: usize> Lanes<S, W> {
+    /// Every lane set to `v`.
+    #[inline(always)]
+    pub fn splat(v: S) -> Self {
+        Lanes([v; W])
+    }
+    /// Every lane zero.
+    #[inline(always)]
+    pub fn zero() -> Self {
+        Self::splat(S::ZERO)
+    }
+    /// Lane `i` from `a` where `m` is set, from `b` elsewhere.
+    #[inline(always)]
+    pub fn select(m: Mask<W>, a: Self, b: Self) -> Self {
+        let mut r = b.0;
+        for i in 0..W {
+            if m.0[i] {
+                r[i] = a.0[i];
+            }
+        }
+        Lanes(r)
+    }
+    lane_cmp!(/// `self < o` per lane (false for NaN).
+        lt, <);
+    lane_cmp!(/// `self <= o` per lane (false for NaN).
+        le, <=);
+    lane_cmp!(/// `self > o` per lane (false for NaN).
+        gt, >);
+    lane_cmp!(/// `self >= o` per lane (false for NaN).
+        ge, >=);
+    lane_cmp!(/// `self == o` per lane.
+        eq_lanes, ==);
+    lane_cmp!(/// `self != o` per lane (true for NaN).
+        ne_lanes, !=);
+
+    /// Applies `f` to every lane.
+    #[inline(always)]
+    pub fn map(self, f: impl Fn(S) -> S) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] = f(r[i]);
+        }
+        Lanes(r)
+    }
+    /// Square root per lane.
+    #[inline(always)]
+    pub fn sqrt(self) -> Self {
+        self.map(S::sqrt)
+    }
+    /// Absolute value per lane.
+    #[inline(always)]
+    pub fn abs(self) -> Self {
+        self.map(S::abs)
+    }
+    /// Per-lane minimum ([`Scalar::min`] semantics).
+    #[inline(always)]
+    pub fn min(self, o: Self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] = r[i].min(o.0[i]);
+        }
+        Lanes(r)
+    }
+    /// Per-lane maximum ([`Scalar::max`] semantics).
+    #[inline(always)]
+    pub fn max(self, o: Self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] = r[i].max(o.0[i]);
+        }
+        Lanes(r)
+    }
+    /// `self / d` where `d != 0`, and `self` elsewhere: division that never
+    /// divides by zero, for fixed-point scalars. Callers mask out the lanes
+    /// whose divisor was zero.
+    #[inline(always)]
+    pub fn div_nonzero(self, d: Self) -> Self {
+        let zero = d.eq_lanes(Self::zero());
+        self / Self::select(zero, Self::splat(S::ONE), d)
+    }
+}
+
+macro_rules! lane_binop {
+    ($tr:ident, $f:ident, $op:tt) => {
+        impl<S: Scalar, const W: usize> $tr for Lanes<S, W> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                let mut r = self.0;
+                for i in 0..W {
+                    r[i] = r[i] $op o.0[i];
+                }
+                Lanes(r)
+            }
+        }
+        impl<S: Scalar, const W: usize> $tr<S> for Lanes<S, W> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: S) -> Self {
+                let mut r = self.0;
+                for i in 0..W {
+                    r[i] = r[i] $op o;
+                }
+                Lanes(r)
+            }
+        }
+    };
+}
+lane_binop!(Add, add, +);
+lane_binop!(Sub, sub, -);
+lane_binop!(Mul, mul, *);
+lane_binop!(Div, div, /);
+
+impl<S: Scalar, const W: usize> Neg for Lanes<S, W> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        self.map(|v| -v)
+    }
+}
+
+impl<S: Scalar, const W: usize> Default for Lanes<S, W> {
+    fn default() -> Self {
+        Self::zero()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn select_and_masks() {
+        let a = Lanes::<f32, 4>([1.0, 2.0, 3.0, 4.0]);
+        let b = Lanes::<f32, 4>::splat(0.0);
+        let m = a.gt(Lanes::splat(2.5));
+        assert_eq!(m.0, [false, false, true, true]);
+        assert_eq!(Lanes::select(m, a, b).0, [0.0, 0.0, 3.0, 4.0]);
+        assert!(m.any() && !m.all() && !m.none());
+        assert_eq!(m.count(), 2);
+        assert_eq!((!m).0, [true, true, false, false]);
+        assert_eq!(m.and_not(Mask([false, false, true, false])).0, [false, false, false, true]);
+    }
+
+    #[test]
+    fn nan_compares_false() {
+        let a = Lanes::<f32, 2>([f32::NAN, 1.0]);
+        assert_eq!(a.lt(Lanes::splat(2.0)).0, [false, true]);
+        assert_eq!(a.ge(Lanes::splat(0.0)).0, [false, true]);
+    }
+
+    #[test]
+    fn div_nonzero_never_divides_by_zero() {
+        let a = Lanes::<f32, 2>([3.0, 5.0]);
+        let d = Lanes::<f32, 2>([0.0, 2.0]);
+        assert_eq!(a.div_nonzero(d).0, [3.0, 2.5]);
+    }
+}

@@ -1,0 +1,54 @@
+//! # raypack
+//!
+//! A `no_std`, allocation-free, bit-for-bit deterministic Whitted ray tracer
+//! that traces 1-, 4- and 8-wide ray packets.
+//!
+//! Everything on the rendering path is generic over the scalar `S`
+//! ([`Scalar`]: `f32`, or fixed point) and the packet width `W`; width 1 is
+//! the scalar tracer, so there is no second copy of any algorithm.
+//!
+//! ```
+//! use raypack::prelude::*;
+//!
+//! let mut scene: Scene<f32, 16, 64> = Scene::new();
+//! let red = scene.add_material(Material::diffuse(Vec3::new(1.0, 0.2, 0.2))).unwrap();
+//! scene.add_sphere(Vec3::new(0.0, 0.0, 0.0), 1.0, red).unwrap();
+//! scene.add_light(Vec3::new(5.0, 5.0, 5.0), Vec3::new(1.0, 1.0, 1.0)).unwrap();
+//! let camera = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, 0.0),
+//!                          Vec3::new(0.0, 1.0, 0.0), 45.0, 32, 32).unwrap();
+//! let tracer: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
+//! let renderer = Renderer::new(tracer, camera);
+//! let mut row = [[0u8; 3]; 32 * 2];               // a band of two rows
+//! let mut stats = RayStats::default();
+//! renderer.render_rect::<8>(Rect { x: 0, y: 15, w: 32, h: 2 }, &mut row, &mut stats).unwrap();
+//! assert!(row[16][0] > 0);                         // the sphere, lit
+//! ```
+#![cfg_attr(not(feature = "std"), no_std)]
+#![deny(missing_docs)]
+#![deny(unsafe_code)]
+
+pub mod camera;
+pub mod demo;
+pub mod lanes;
+pub mod primitives;
+pub mod ray;
+pub mod render;
+pub mod scalar;
+pub mod scene;
+pub mod trace;
+pub mod vec3;
+
+pub use scalar::Scalar;
+
+/// The types most programs need.
+pub mod prelude {
+    pub use crate::camera::{Camera, CameraError, Rect};
+    pub use crate::lanes::{Lanes, Mask};
+    pub use crate::primitives::{Quadric, Shape, ShapeKind};
+    pub use crate::ray::{Ray, RayPacket};
+    pub use crate::render::{Aov, Renderer, Rgb8};
+    pub use crate::scalar::Scalar;
+    pub use crate::scene::{CapacityError, Material, Scene, SceneError, SceneView};
+    pub use crate::trace::{Mode, RayStats, TraceSettings, Tracer};
+    pub use crate::vec3::Vec3;
+}

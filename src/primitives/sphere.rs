@@ -1,0 +1,151 @@
+//! Sphere: centre and radius.
+
+use super::GeometryError;
+use crate::lanes::{Lanes, Mask};
+use crate::ray::{RayPacket, Roots};
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+
+/// A sphere.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere<S> {
+    center: Vec3<S>,
+    radius: S,
+    radius2: S,
+}
+
+impl<S: Scalar> Sphere<S> {
+    /// A sphere of positive, finite `radius` around a finite `center`.
+    pub fn new(center: Vec3<S>, radius: S) -> Result<Self, GeometryError> {
+        if !center.is_finite() || !radius.is_finite() {
+            return Err(GeometryError::NonFinite);
+        }
+        if !(radius > S::ZERO) {
+            return Err(GeometryError::NonPositiveRadius);
+        }
+        Ok(Sphere {
+            center,
+            radius,
+            radius2: radius * radius,
+        })
+    }
+
+    /// Centre.
+    pub fn center(&self) -> Vec3<S> {
+        self.center
+    }
+    /// Radius.
+    pub fn radius(&self) -> S {
+        self.radius
+    }
+
+    /// Crossings of each active ray with the sphere inside `(t_min, t_max)`.
+    ///
+    /// Rays must have unit directions (every `RayPacket` constructor ensures
+    /// it), so the quadratic is `t² + 2bt + c = 0` with `b = oc·d`.
+    #[inline(always)]
+    pub fn roots<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Roots<S, W> {
+        // Vector from the centre to the ray origin.
+        let oc = ray.origin.sub_splat(self.center);
+        let b = oc.dot(ray.dir);
+        // Compute the discriminant as r² − |oc − b·d|² (Haines et al., Ray
+        // Tracing Gems ch. 7): the squared distance of the centre from the
+        // line is formed from a short vector, so it does not suffer the
+        // cancellation of the textbook b² − c when the origin is far away.
+        let perp = oc - ray.dir.scale(b);
+        let disc = Lanes::splat(self.radius2) - perp.dot(perp);
+        let valid = active & disc.ge(Lanes::zero());
+        if valid.none() {
+            return Roots::none();
+        }
+        let c = oc.dot(oc) - Lanes::splat(self.radius2);
+        let sq = disc.sqrt();
+        // q = −(b + sign(b)·√Δ) avoids subtracting nearly equal numbers; the
+        // roots are then t = q and t = c/q (a = 1).
+        let q = Lanes::select(b.ge(Lanes::zero()), -b - sq, sq - b);
+        let q_ok = q.ne_lanes(Lanes::zero());
+        let t_a = q;
+        let t_b = c.div_nonzero(q);
+        Roots::from_candidates(t_a, valid, t_b, valid & q_ok, t_min, t_max)
+    }
+
+    /// Outward normal (not normalized) at a point on the surface.
+    #[inline]
+    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
+        p - self.center
+    }
+
+    /// Axis-aligned bounds `(min, max)`.
+    pub fn bounds(&self) -> (Vec3<S>, Vec3<S>) {
+        let r = Vec3::new(self.radius, self.radius, self.radius);
+        (self.center - r, self.center + r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::primitives::test_util::*;
+    use crate::primitives::Shape;
+
+    fn unit() -> Sphere<f32> {
+        Sphere::new(Vec3::new(0.0, 0.0, 0.0), 1.0).unwrap()
+    }
+
+    #[test]
+    fn analytic_hit_from_outside() {
+        {
+            let r = hits(&Shape::Sphere(unit()), [0.0, 0.0, -5.0], [0.0, 0.0, 1.0]);
+            assert_eq!(r, vec![4.0, 6.0]);
+        }
+    }
+
+    #[test]
+    fn miss_and_tangent() {
+        {
+            let miss = hits(&Shape::Sphere(unit()), [0.0, 1.5, -5.0], [0.0, 0.0, 1.0]);
+            assert!(miss.is_empty());
+            let tangent = hits(&Shape::Sphere(unit()), [0.0, 1.0, -5.0], [0.0, 0.0, 1.0]);
+            assert_eq!(tangent, vec![5.0, 5.0]);
+        }
+    }
+
+    #[test]
+    fn origin_inside_gives_one_root() {
+        {
+            let r = hits(&Shape::Sphere(unit()), [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+            assert_eq!(r, vec![1.0]);
+        }
+    }
+
+    #[test]
+    fn behind_origin_misses() {
+        {
+            let r = hits(&Shape::Sphere(unit()), [0.0, 0.0, 5.0], [0.0, 0.0, 1.0]);
+            assert!(r.is_empty());
+        }
+    }
+
+    #[test]
+    fn far_origin_keeps_precision() {
+        // 1e4 units away the textbook formula loses most digits of c.
+        let s = Sphere::new(Vec3::new(0.0f32, 0.0, 0.0), 1.0).unwrap();
+        let r = hits(&Shape::Sphere(s), [0.0, 0.5, -1.0e4], [0.0, 0.0, 1.0]);
+        let exact = 1.0e4 - (0.75f64).sqrt();
+        assert!((r[0] as f64 - exact).abs() < 1e-3, "{r:?}");
+    }
+
+    #[test]
+    fn degenerate_input_is_rejected() {
+        assert_eq!(Sphere::new(Vec3::new(0.0f32, 0.0, 0.0), 0.0), Err(GeometryError::NonPositiveRadius));
+        assert_eq!(Sphere::new(Vec3::new(0.0f32, 0.0, 0.0), -1.0), Err(GeometryError::NonPositiveRadius));
+        assert_eq!(Sphere::new(Vec3::new(f32::NAN, 0.0, 0.0), 1.0), Err(GeometryError::NonFinite));
+        assert_eq!(Sphere::new(Vec3::new(0.0f32, 0.0, 0.0), f32::INFINITY), Err(GeometryError::NonFinite));
+    }
+}

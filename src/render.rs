@@ -1,0 +1,146 @@
+//! Rendering rectangles of the image into caller-provided buffers.
+//!
+//! [`Renderer::render_rect`] renders any rectangle (a tile, or a band of
+//! rows) into a slice of RGB888 pixels, so callers never need a full
+//! framebuffer: firmware renders a band of a few rows at a time, the CLI
+//! renders tiles on several threads. Output is the same for any packet width
+//! and any tiling.
+
+use crate::camera::{packet_shape, Camera, Rect};
+use crate::lanes::{Lanes, Mask};
+use crate::scalar::Scalar;
+use crate::trace::{RayStats, Tracer};
+use crate::vec3::Vec3;
+
+/// One 8-bit RGB pixel.
+pub type Rgb8 = [u8; 3];
+
+/// What a render writes per pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Aov {
+    /// The traced colour: linear, clamped to `[0, 1]`, quantized as `round(v·255)`.
+    #[default]
+    Color,
+    /// Distance `t` along the primary ray (the camera rays have unit
+    /// direction, so `t` is the distance from the eye), as a 24-bit number
+    /// `round(t·256)` (8 fractional bits; r = high byte, g = middle, b = low),
+    /// saturating at `2²⁴ − 2`; background is `2²⁴ − 1` (white).
+    Depth,
+    /// Shading normal at the primary hit, turned towards the camera, as
+    /// `0.5·n + 0.5` per channel; background 0.
+    Normal,
+    /// The 0-based index `k` of the primitive hit, written as the 24-bit
+    /// number `k + 1` (r = high byte, g = middle, b = low); background 0.
+    Id,
+}
+
+/// The output buffer is smaller than the rectangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BufferTooSmall {
+    /// Pixels needed.
+    pub needed: usize,
+    /// Pixels provided.
+    pub provided: usize,
+}
+
+impl core::fmt::Display for BufferTooSmall {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "buffer of {} pixels for a rectangle of {}", self.provided, self.needed)
+    }
+}
+
+/// A tracer, a camera and an AOV: everything needed to render pixels.
+#[derive(Clone, Copy, Debug)]
+pub struct Renderer<'a, S, const D: usize = 8> {
+    /// The tracer (scene and settings).
+    pub tracer: Tracer<'a, S, D>,
+    /// The camera (and image size).
+    pub camera: Camera<S>,
+    /// What to write per pixel.
+    pub aov: Aov,
+}
+
+fn u24(v: u32) -> Rgb8 {
+    [(v >> 16) as u8, (v >> 8) as u8, v as u8]
+}
+
+impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
+    /// A renderer of the colour AOV.
+    pub fn new(tracer: Tracer<'a, S, D>, camera: Camera<S>) -> Self {
+        Renderer { tracer, camera, aov: Aov::Color }
+    }
+
+    /// Renders the pixels of `rect` (clipped to the image) with packets of
+    /// width `W` into `out`, row-major with row stride `rect.w`. Ray counts
+    /// are added to `stats`.
+    pub fn render_rect<const W: usize>(&self, rect: Rect, out: &mut [Rgb8], stats: &mut RayStats) -> Result<(), BufferTooSmall> {
+        let needed = rect.w as usize * rect.h as usize;
+        if out.len() < needed {
+            return Err(BufferTooSmall { needed, provided: out.len() });
+        }
+        let (pw, ph) = packet_shape(W);
+        let mut by = 0;
+        while by < rect.h {
+            let mut bx = 0;
+            while bx < rect.w {
+                let (ray, active) = self.camera.packet::<W>(rect.x + bx, rect.y + by, rect);
+                let px = self.shade_packet(&ray, active, stats);
+                for (l, p) in px.iter().enumerate() {
+                    if !active.0[l] {
+                        continue;
+                    }
+                    let x = bx + l as u32 % pw;
+                    let y = by + l as u32 / pw;
+                    if let Some(slot) = out.get_mut(y as usize * rect.w as usize + x as usize) {
+                        *slot = *p;
+                    }
+                }
+                bx += pw;
+            }
+            by += ph;
+        }
+        Ok(())
+    }
+
+    /// The pixels of one packet of primary rays.
+    fn shade_packet<const W: usize>(&self, ray: &crate::ray::RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> [Rgb8; W] {
+        let mut px = [[0u8; 3]; W];
+        match self.aov {
+            Aov::Color => {
+                let c = self.tracer.trace(ray, active, stats);
+                for (l, p) in px.iter_mut().enumerate() {
+                    let v = c.lane(l);
+                    *p = [v.x.to_unorm8(), v.y.to_unorm8(), v.z.to_unorm8()];
+                }
+            }
+            aov => {
+                stats.primary += active.count() as u64;
+                let scene = self.tracer.scene();
+                let hit = scene.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
+                let surf = if aov == Aov::Normal { Some(self.tracer.surface(ray, &hit)) } else { None };
+                for (l, p) in px.iter_mut().enumerate() {
+                    if !active.0[l] {
+                        continue;
+                    }
+                    *p = match (aov, hit.mask.0[l]) {
+                        (Aov::Depth, false) => u24(0xFF_FFFF),
+                        (Aov::Depth, true) => {
+                            // In f32 for every scalar: fixed point's range would overflow t·256.
+                            let v = hit.t.0[l].to_f32() * 256.0 + 0.5;
+                            let v = if v >= 16_777_214.0 { 16_777_214 } else { v as u32 };
+                            u24(v)
+                        }
+                        (Aov::Id, true) => u24(hit.prim[l].saturating_add(1).min(0xFF_FFFF)),
+                        (Aov::Normal, true) => {
+                            let n = surf.as_ref().map(|s| s.shading.lane(l)).unwrap_or(Vec3::ZERO);
+                            let enc = |c: S| (c * S::HALF + S::HALF).to_unorm8();
+                            [enc(n.x), enc(n.y), enc(n.z)]
+                        }
+                        _ => [0, 0, 0],
+                    };
+                }
+            }
+        }
+        px
+    }
+}

@@ -1,0 +1,211 @@
+//! The [`Scalar`] trait: the number type every algorithm in raypack is written
+//! against.
+//!
+//! Two implementations exist: `f32` (here) and the fixed-point scalar. All
+//! geometry, shading and camera code is generic over `Scalar`, so a scene
+//! traced with `f32` and with fixed point runs the very same code.
+//!
+//! # Determinism
+//! Every operation must give the same bits on every target. For `f32` that
+//! means: plain IEEE operations (correctly rounded in hardware and in
+//! soft-float alike), no `mul_add`, no reassociation, and transcendental
+//! functions from the pure-Rust `libm` crate, never from the platform's C
+//! library. `sqrt` is the one exception that may use the compiler intrinsic
+//! (with `std`): IEEE requires it to be correctly rounded, so `f32::sqrt` and
+//! `libm::sqrtf` agree bit for bit, and only the intrinsic vectorizes.
+
+use core::fmt::Debug;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A real-number type the tracer computes with.
+///
+/// Implementations must be total: no operation may panic, whatever the
+/// operands (division by zero included). Results of meaningless operations
+/// (such as `0 / 0`) may be arbitrary but must be deterministic; the tracer
+/// masks such lanes out before it uses them.
+pub trait Scalar:
+    Copy
+    + Debug
+    + PartialEq
+    + PartialOrd
+    + Default
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// Zero.
+    const ZERO: Self;
+    /// One.
+    const ONE: Self;
+    /// One half.
+    const HALF: Self;
+    /// Two.
+    const TWO: Self;
+    /// The largest finite value. Stands for "infinitely far" (the initial
+    /// `t_max` of a ray, an unbounded slab), so it must compare greater than
+    /// every distance a scene can produce.
+    const MAX: Self;
+    /// Relative size of the offset that moves a secondary ray's origin off the
+    /// surface it leaves; the offset is `RAY_EPSILON · (1 + max|P|)`.
+    const RAY_EPSILON: Self;
+    /// Weights below this end a path (the "minimum contribution" cut-off).
+    const MIN_WEIGHT: Self;
+
+    /// Converts from `f32` (set-up time only: scene input, camera angles).
+    /// Out-of-range values saturate; NaN becomes zero.
+    fn from_f32(v: f32) -> Self;
+    /// Converts from a (small) integer, exactly where the type allows.
+    fn from_i32(v: i32) -> Self;
+    /// Converts to `f32` (for reports and tests, never on the render path).
+    fn to_f32(self) -> f32;
+    /// Square root, correctly rounded. Negative input gives a value the caller
+    /// must mask out (NaN for `f32`).
+    fn sqrt(self) -> Self;
+    /// `self` raised to the power `e`, for `self` in `[0, 1]` and `e >= 0`
+    /// (the Phong highlight). Deterministic on every target.
+    fn powf(self, e: Self) -> Self;
+    /// `floor(self)` as an integer, saturating; NaN gives 0.
+    fn floor_to_i32(self) -> i32;
+    /// Whether the value is a finite number (always true for fixed point).
+    fn is_finite(self) -> bool;
+
+    /// Absolute value.
+    #[inline(always)]
+    fn abs(self) -> Self {
+        if self < Self::ZERO {
+            -self
+        } else {
+            self
+        }
+    }
+    /// The smaller of two values (`other` when they are unordered).
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        if self < other {
+            self
+        } else {
+            other
+        }
+    }
+    /// The larger of two values (`other` when they are unordered).
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        if self > other {
+            self
+        } else {
+            other
+        }
+    }
+    /// Clamps to `[0, 1]`; anything unordered (NaN) becomes 0.
+    #[inline(always)]
+    fn clamp01(self) -> Self {
+        // `max` returns its argument for NaN, so NaN becomes 0 here.
+        self.max(Self::ZERO).min(Self::ONE)
+    }
+    /// Quantizes a linear value in `[0, 1]` to 8 bits: `round(clamp(v)·255)`.
+    #[inline(always)]
+    fn to_unorm8(self) -> u8 {
+        let v = self.clamp01() * Self::from_i32(255) + Self::HALF;
+        let i = v.floor_to_i32();
+        if i < 0 {
+            0
+        } else if i > 255 {
+            255
+        } else {
+            i as u8
+        }
+    }
+}
+
+impl Scalar for f32 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const HALF: Self = 0.5;
+    const TWO: Self = 2.0;
+    const MAX: Self = f32::MAX;
+    const RAY_EPSILON: Self = 1.0e-4;
+    const MIN_WEIGHT: Self = 1.0 / 512.0;
+
+    #[inline(always)]
+    fn from_f32(v: f32) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn from_i32(v: i32) -> Self {
+        v as f32
+    }
+    #[inline(always)]
+    fn to_f32(self) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // Both are correctly rounded (IEEE 754 requires it), so the bits are
+        // the same; only the intrinsic lets LLVM emit packed `sqrtps`.
+        #[cfg(feature = "std")]
+        {
+            f32::sqrt(self)
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            libm::sqrtf(self)
+        }
+    }
+    #[inline]
+    fn powf(self, e: Self) -> Self {
+        // Always libm: the C library's powf differs in the last bit between
+        // platforms.
+        libm::powf(self, e)
+    }
+    #[inline(always)]
+    fn floor_to_i32(self) -> i32 {
+        // `as` saturates and maps NaN to 0.
+        libm::floorf(self) as i32
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        // Clearing the sign bit is what `f32::abs` does; core has it stably.
+        f32::abs(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sqrt_is_correctly_rounded_like_libm() {
+        let mut x = 1.0e-30f32;
+        while x < 1.0e30 {
+            assert_eq!(Scalar::sqrt(x).to_bits(), libm::sqrtf(x).to_bits(), "{x}");
+            x *= 1.37;
+        }
+    }
+
+    #[test]
+    fn unorm8_rounds_and_clamps() {
+        assert_eq!(0.0f32.to_unorm8(), 0);
+        assert_eq!(1.0f32.to_unorm8(), 255);
+        assert_eq!(2.0f32.to_unorm8(), 255);
+        assert_eq!((-1.0f32).to_unorm8(), 0);
+        assert_eq!(f32::NAN.to_unorm8(), 0);
+        assert_eq!(f32::INFINITY.to_unorm8(), 255);
+        assert_eq!((0.5f32).to_unorm8(), 128);
+        assert_eq!((1.0f32 / 255.0).to_unorm8(), 1);
+    }
+
+    #[test]
+    fn min_max_ignore_nan_in_first_operand() {
+        assert_eq!(Scalar::max(f32::NAN, 0.0), 0.0);
+        assert_eq!(Scalar::min(f32::NAN, 1.0), 1.0);
+    }
+}

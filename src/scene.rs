@@ -1,0 +1,670 @@
+//! Fixed-capacity scenes: primitives, the shared vertex pool, materials and
+//! lights, with capacities as const generics and errors instead of panics.
+//!
+//! [`Scene`] owns its storage (heapless vectors, no allocator); tracing works
+//! on a [`SceneView`] of slices, so the tracer is not monomorphized per
+//! capacity and a scene can also be assembled from static slices.
+
+use crate::lanes::{Lanes, Mask};
+use crate::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Polygon, Quadric, Shape, ShapeKind, Sphere};
+use crate::ray::RayPacket;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use heapless::Vec as HVec;
+
+/// Surface description for the Whitted model.
+///
+/// `local = Ka·colour + Σ lights · (Kd·colour·max(0, N·L) + Ks·max(0, R·V)^shine)`,
+/// `colour = (1 − Kt)·local + Kr·reflected + Kt·refracted`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material<S> {
+    /// Surface colour (linear RGB).
+    pub color: Vec3<S>,
+    /// Ambient weight (the ambient light is white, 1).
+    pub ka: S,
+    /// Diffuse weight.
+    pub kd: S,
+    /// Specular highlight weight.
+    pub ks: S,
+    /// Phong exponent.
+    pub shine: S,
+    /// Mirror-reflection weight.
+    pub kr: S,
+    /// Transmission weight (also the shadow attenuation per surface crossed).
+    pub kt: S,
+    /// Index of refraction.
+    pub ior: S,
+}
+
+impl<S: Scalar> Material<S> {
+    /// A plain diffuse material of the given colour.
+    pub fn diffuse(color: Vec3<S>) -> Self {
+        Material {
+            color,
+            ka: S::ZERO,
+            kd: S::ONE,
+            ks: S::ZERO,
+            shine: S::ONE,
+            kr: S::ZERO,
+            kt: S::ZERO,
+            ior: S::ONE,
+        }
+    }
+
+    /// The NFF `f` material: `Ka = 0`, and `Ks` is both the highlight and the
+    /// mirror weight.
+    pub fn nff(color: Vec3<S>, kd: S, ks: S, shine: S, kt: S, ior: S) -> Self {
+        Material {
+            color,
+            ka: S::ZERO,
+            kd,
+            ks,
+            shine,
+            kr: ks,
+            kt,
+            ior,
+        }
+    }
+
+    /// Checks that every number is finite, the exponent is non-negative and
+    /// the index of refraction is positive.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let all = [self.ka, self.kd, self.ks, self.shine, self.kr, self.kt, self.ior];
+        if !self.color.is_finite() || all.iter().any(|v| !v.is_finite()) {
+            return Err(SceneError::Geometry(GeometryError::NonFinite));
+        }
+        if self.shine < S::ZERO {
+            return Err(SceneError::InvalidMaterial("negative Phong exponent"));
+        }
+        if !(self.ior > S::ZERO) {
+            return Err(SceneError::InvalidMaterial("index of refraction must be positive"));
+        }
+        Ok(())
+    }
+}
+
+/// A point light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light<S> {
+    /// Position.
+    pub position: Vec3<S>,
+    /// Intensity per channel.
+    pub color: Vec3<S>,
+}
+
+/// One primitive of a scene and its material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Primitive<S> {
+    /// The geometry.
+    pub shape: Shape<S>,
+    /// Index into the scene's materials.
+    pub material: u16,
+}
+
+/// Which fixed capacity of a scene was exceeded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CapacityKind {
+    /// The number of primitives.
+    Primitives,
+    /// The vertex pool (polygon vertices, and patch normals).
+    Vertices,
+    /// The number of materials.
+    Materials,
+    /// The number of lights.
+    Lights,
+}
+
+/// A scene capacity was too small: which one, its size, and the size the
+/// insertion needed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CapacityError {
+    /// The capacity that was exceeded.
+    pub kind: CapacityKind,
+    /// Its size.
+    pub capacity: usize,
+    /// The size needed to hold what did not fit.
+    pub needed: usize,
+}
+
+impl core::fmt::Display for CapacityError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let what = match self.kind {
+            CapacityKind::Primitives => "primitive",
+            CapacityKind::Vertices => "vertex",
+            CapacityKind::Materials => "material",
+            CapacityKind::Lights => "light",
+        };
+        write!(f, "{what} capacity {} exceeded (needs {})", self.capacity, self.needed)
+    }
+}
+
+/// Why something could not be added to a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneError {
+    /// A capacity was exceeded.
+    Capacity(CapacityError),
+    /// The geometry is invalid.
+    Geometry(GeometryError),
+    /// A material index that the scene does not have.
+    UnknownMaterial(u16),
+    /// A material parameter is out of range.
+    InvalidMaterial(&'static str),
+}
+
+impl From<GeometryError> for SceneError {
+    fn from(e: GeometryError) -> Self {
+        SceneError::Geometry(e)
+    }
+}
+impl From<CapacityError> for SceneError {
+    fn from(e: CapacityError) -> Self {
+        SceneError::Capacity(e)
+    }
+}
+
+impl core::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            SceneError::Capacity(c) => c.fmt(f),
+            SceneError::Geometry(g) => g.fmt(f),
+            SceneError::UnknownMaterial(m) => write!(f, "unknown material {m}"),
+            SceneError::InvalidMaterial(why) => write!(f, "invalid material: {why}"),
+        }
+    }
+}
+
+/// A scene with room for `P` primitives, `V` pool vertices, `M` materials and
+/// `L` lights, in fixed memory.
+#[derive(Clone)]
+pub struct Scene<S, const P: usize, const V: usize, const M: usize = 64, const L: usize = 16> {
+    prims: HVec<Primitive<S>, P>,
+    verts: HVec<Vec3<S>, V>,
+    materials: HVec<Material<S>, M>,
+    lights: HVec<Light<S>, L>,
+    background: Vec3<S>,
+    degenerate_polygons: u32,
+}
+
+impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> Default for Scene<S, P, V, M, L> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+fn full(kind: CapacityKind, capacity: usize, needed: usize) -> SceneError {
+    SceneError::Capacity(CapacityError { kind, capacity, needed })
+}
+
+impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> Scene<S, P, V, M, L> {
+    /// An empty scene with a black background.
+    pub const fn new() -> Self {
+        Scene {
+            prims: HVec::new(),
+            verts: HVec::new(),
+            materials: HVec::new(),
+            lights: HVec::new(),
+            background: Vec3::new(S::ZERO, S::ZERO, S::ZERO),
+            degenerate_polygons: 0,
+        }
+    }
+
+    /// Sets the colour seen by rays that hit nothing.
+    pub fn set_background(&mut self, color: Vec3<S>) -> Result<(), SceneError> {
+        if !color.is_finite() {
+            return Err(GeometryError::NonFinite.into());
+        }
+        self.background = color;
+        Ok(())
+    }
+
+    /// Adds a material and returns its index.
+    pub fn add_material(&mut self, m: Material<S>) -> Result<u16, SceneError> {
+        m.validate()?;
+        let id = self.materials.len();
+        if id > u16::MAX as usize {
+            return Err(full(CapacityKind::Materials, u16::MAX as usize + 1, id + 1));
+        }
+        self.materials
+            .push(m)
+            .map_err(|_| full(CapacityKind::Materials, M, id + 1))?;
+        Ok(id as u16)
+    }
+
+    /// Adds a point light.
+    pub fn add_light(&mut self, position: Vec3<S>, color: Vec3<S>) -> Result<(), SceneError> {
+        if !position.is_finite() || !color.is_finite() {
+            return Err(GeometryError::NonFinite.into());
+        }
+        let n = self.lights.len();
+        self.lights
+            .push(Light { position, color })
+            .map_err(|_| full(CapacityKind::Lights, L, n + 1))
+    }
+
+    /// Adds a primitive with material `material` and returns its index
+    /// (primitive indices are insertion order).
+    pub fn add_shape(&mut self, shape: Shape<S>, material: u16) -> Result<u32, SceneError> {
+        if material as usize >= self.materials.len() {
+            return Err(SceneError::UnknownMaterial(material));
+        }
+        let id = self.prims.len();
+        self.prims
+            .push(Primitive { shape, material })
+            .map_err(|_| full(CapacityKind::Primitives, P, id + 1))?;
+        if let Shape::Polygon(p) = shape {
+            if p.is_degenerate() {
+                self.degenerate_polygons += 1;
+            }
+        }
+        Ok(id as u32)
+    }
+
+    /// Adds a sphere.
+    pub fn add_sphere(&mut self, center: Vec3<S>, radius: S, material: u16) -> Result<u32, SceneError> {
+        self.add_shape(Shape::Sphere(Sphere::new(center, radius)?), material)
+    }
+    /// Adds an infinite plane `Ax + By + Cz + D = 0`.
+    pub fn add_plane(&mut self, a: S, b: S, c: S, d: S, material: u16) -> Result<u32, SceneError> {
+        self.add_shape(Shape::Plane(Plane::from_coefficients(a, b, c, d)?), material)
+    }
+    /// Adds an axis-aligned box between two opposite corners.
+    pub fn add_box(&mut self, a: Vec3<S>, b: Vec3<S>, material: u16) -> Result<u32, SceneError> {
+        self.add_shape(Shape::AaBox(AaBox::new(a, b)?), material)
+    }
+    /// Adds an oriented box.
+    pub fn add_oriented_box(&mut self, center: Vec3<S>, half: Vec3<S>, u: Vec3<S>, v: Vec3<S>, material: u16) -> Result<u32, SceneError> {
+        self.add_shape(Shape::OrientedBox(OrientedBox::new(center, half, u, v)?), material)
+    }
+    /// Adds a quadric (see [`Quadric`] for the named constructors).
+    pub fn add_quadric(&mut self, q: Quadric<S>, material: u16) -> Result<u32, SceneError> {
+        self.add_shape(Shape::Quadric(q), material)
+    }
+    /// Adds a finite open cone or cylinder.
+    pub fn add_cone(&mut self, base: Vec3<S>, base_radius: S, apex: Vec3<S>, apex_radius: S, material: u16) -> Result<u32, SceneError> {
+        self.add_shape(Shape::Cone(Cone::new(base, base_radius, apex, apex_radius)?), material)
+    }
+
+    /// Appends one vertex to the pool and returns its index. With
+    /// [`Scene::add_polygon_from_pool`] this lets a reader stream vertices
+    /// without a buffer of its own.
+    pub fn push_vertex(&mut self, v: Vec3<S>) -> Result<u32, SceneError> {
+        let n = self.verts.len();
+        self.verts
+            .push(v)
+            .map_err(|_| full(CapacityKind::Vertices, V, n + 1))?;
+        Ok(n as u32)
+    }
+
+    /// Number of vertices in the pool.
+    pub fn vertex_count(&self) -> usize {
+        self.verts.len()
+    }
+
+    /// Adds a polygon over the last pushed vertices `first .. first + count`
+    /// (a patch: `count` positions followed by `count` unit normals).
+    /// On error the vertices from `first` on are removed again.
+    pub fn add_polygon_from_pool(&mut self, first: u32, count: u32, patch: bool, material: u16) -> Result<u32, SceneError> {
+        let result = Polygon::from_pool(&self.verts, first, count, patch)
+            .map_err(SceneError::from)
+            .and_then(|p| self.add_shape(Shape::Polygon(p), material));
+        if result.is_err() {
+            self.verts.truncate(first as usize);
+        }
+        result
+    }
+
+    fn check_vertex_room(&self, n: usize) -> Result<(), SceneError> {
+        let needed = self.verts.len() + n;
+        if needed > V {
+            return Err(full(CapacityKind::Vertices, V, needed));
+        }
+        if self.prims.len() >= P {
+            return Err(full(CapacityKind::Primitives, P, self.prims.len() + 1));
+        }
+        Ok(())
+    }
+
+    /// Adds a planar polygon (vertices counter-clockwise seen from the front).
+    pub fn add_polygon(&mut self, vertices: &[Vec3<S>], material: u16) -> Result<u32, SceneError> {
+        if vertices.len() < 3 {
+            return Err(GeometryError::TooFewVertices(vertices.len() as u32).into());
+        }
+        self.check_vertex_room(vertices.len())?;
+        let first = self.verts.len() as u32;
+        for &v in vertices {
+            self.push_vertex(v)?;
+        }
+        self.add_polygon_from_pool(first, vertices.len() as u32, false, material)
+    }
+
+    /// Adds a polygon patch: vertices and one normal per vertex (normalized
+    /// here; a zero-length normal is an error).
+    pub fn add_patch(&mut self, vertices: &[Vec3<S>], normals: &[Vec3<S>], material: u16) -> Result<u32, SceneError> {
+        if vertices.len() < 3 {
+            return Err(GeometryError::TooFewVertices(vertices.len() as u32).into());
+        }
+        if normals.len() != vertices.len() {
+            return Err(GeometryError::VertexRange.into());
+        }
+        self.check_vertex_room(2 * vertices.len())?;
+        let mut unit = [Vec3::ZERO; 1];
+        for n in normals {
+            unit[0] = n.normalize_or_zero();
+            if unit[0] == Vec3::ZERO {
+                return Err(if n.is_finite() { GeometryError::ZeroLengthAxis } else { GeometryError::NonFinite }.into());
+            }
+        }
+        let first = self.verts.len() as u32;
+        for &v in vertices {
+            self.push_vertex(v)?;
+        }
+        for n in normals {
+            self.push_vertex(n.normalize_or_zero())?;
+        }
+        self.add_polygon_from_pool(first, vertices.len() as u32, true, material)
+    }
+
+    /// Number of zero-area polygons (kept, never hit), so a reader can warn.
+    pub fn degenerate_polygons(&self) -> u32 {
+        self.degenerate_polygons
+    }
+
+    /// Number of primitives.
+    pub fn len(&self) -> usize {
+        self.prims.len()
+    }
+    /// Whether the scene has no primitives.
+    pub fn is_empty(&self) -> bool {
+        self.prims.is_empty()
+    }
+
+    /// The scene as slices, for tracing.
+    pub fn view(&self) -> SceneView<'_, S> {
+        SceneView {
+            prims: &self.prims,
+            verts: &self.verts,
+            materials: &self.materials,
+            lights: &self.lights,
+            background: self.background,
+        }
+    }
+}
+
+/// Per-lane result of a closest-hit query.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit<S, const W: usize> {
+    /// Distance along the ray (meaningful where `mask` is set).
+    pub t: Lanes<S, W>,
+    /// Index of the primitive hit (meaningful where `mask` is set).
+    pub prim: [u32; W],
+    /// Lanes that hit something.
+    pub mask: Mask<W>,
+}
+
+/// A read-only scene made of slices: what the tracer works on.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneView<'a, S> {
+    prims: &'a [Primitive<S>],
+    verts: &'a [Vec3<S>],
+    materials: &'a [Material<S>],
+    lights: &'a [Light<S>],
+    background: Vec3<S>,
+}
+
+/// The material used where a primitive names a material the view lacks
+/// (impossible for views made by [`Scene::view`] or [`SceneView::new`]).
+fn fallback_material<S: Scalar>() -> Material<S> {
+    Material::diffuse(Vec3::new(S::ONE, S::ONE, S::ONE))
+}
+
+impl<'a, S: Scalar> SceneView<'a, S> {
+    /// A view over caller-provided slices (for example `static` data in
+    /// flash), checked: every material index must exist and every polygon
+    /// must lie inside `verts`.
+    pub fn new(
+        prims: &'a [Primitive<S>],
+        verts: &'a [Vec3<S>],
+        materials: &'a [Material<S>],
+        lights: &'a [Light<S>],
+        background: Vec3<S>,
+    ) -> Result<Self, SceneError> {
+        for p in prims {
+            if p.material as usize >= materials.len() {
+                return Err(SceneError::UnknownMaterial(p.material));
+            }
+            if let Shape::Polygon(poly) = &p.shape {
+                let slots = poly.vertex_count() as usize * if poly.is_patch() { 2 } else { 1 };
+                if poly.first_vertex() as usize + slots > verts.len() {
+                    return Err(GeometryError::VertexRange.into());
+                }
+            }
+        }
+        for m in materials {
+            m.validate()?;
+        }
+        Ok(SceneView { prims, verts, materials, lights, background })
+    }
+
+    /// The primitives, in index order.
+    pub fn primitives(&self) -> &'a [Primitive<S>] {
+        self.prims
+    }
+    /// The vertex pool.
+    pub fn vertices(&self) -> &'a [Vec3<S>] {
+        self.verts
+    }
+    /// The materials.
+    pub fn materials(&self) -> &'a [Material<S>] {
+        self.materials
+    }
+    /// The lights.
+    pub fn lights(&self) -> &'a [Light<S>] {
+        self.lights
+    }
+    /// The background colour.
+    pub fn background(&self) -> Vec3<S> {
+        self.background
+    }
+    /// The material of primitive `prim`.
+    #[inline]
+    pub fn material_of(&self, prim: u32) -> Material<S> {
+        self.prims
+            .get(prim as usize)
+            .and_then(|p| self.materials.get(p.material as usize))
+            .copied()
+            .unwrap_or_else(fallback_material)
+    }
+    /// Number of primitives of each kind.
+    pub fn count(&self, kind: ShapeKind) -> usize {
+        self.prims.iter().filter(|p| p.shape.kind() == kind).count()
+    }
+    /// Bounds of all bounded primitives, or `None` if there are none.
+    pub fn bounds(&self) -> Option<(Vec3<S>, Vec3<S>)> {
+        self.prims
+            .iter()
+            .filter_map(|p| p.shape.bounds(self.verts))
+            .reduce(|(a, b), (c, d)| (a.min_elem(c), b.max_elem(d)))
+    }
+
+    /// The nearest hit of each active ray in `(t_min, t_max)`.
+    ///
+    /// Ties (two primitives at exactly the same distance) go to the lower
+    /// primitive index, whatever the packet width.
+    #[inline]
+    pub fn closest_hit<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Hit<S, W> {
+        let mut best_t = t_max;
+        let mut best_id = [u32::MAX; W];
+        let mut found = Mask::splat(false);
+        if active.none() {
+            return Hit { t: best_t, prim: best_id, mask: found };
+        }
+        for (k, p) in self.prims.iter().enumerate() {
+            // Only roots strictly nearer than the best so far come back, so a
+            // later primitive at the same distance never replaces an earlier one.
+            let r = p.shape.roots(self.verts, ray, t_min, best_t, active);
+            let (t, m) = r.nearest();
+            if m.none() {
+                continue;
+            }
+            best_t = Lanes::select(m, t, best_t);
+            for i in 0..W {
+                if m.0[i] {
+                    best_id[i] = k as u32;
+                }
+            }
+            found |= m;
+        }
+        Hit { t: best_t, prim: best_id, mask: found }
+    }
+
+    /// Fraction of light that reaches the end of each active ray segment
+    /// `(t_min, t_max)`: every surface crossed multiplies it by the crossed
+    /// object's `Kt` (an opaque object stops it; a glass sphere gives `Kt²`).
+    /// Inactive lanes return 0.
+    #[inline]
+    pub fn transmittance<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Lanes<S, W> {
+        let mut trans = Lanes::select(active, Lanes::splat(S::ONE), Lanes::zero());
+        let mut live = active;
+        for p in self.prims.iter() {
+            if live.none() {
+                break;
+            }
+            let r = p.shape.roots(self.verts, ray, t_min, t_max, live);
+            if r.hit0.none() {
+                continue;
+            }
+            let kt = self.materials.get(p.material as usize).map(|m| m.kt).unwrap_or(S::ZERO);
+            if kt == S::ZERO {
+                // Opaque: these lanes are in shadow; stop tracing them.
+                trans = Lanes::select(r.hit0, Lanes::zero(), trans);
+                live = live.and_not(r.hit0);
+            } else {
+                // One factor per crossing, in primitive order.
+                trans = Lanes::select(r.hit0, trans * kt, trans);
+                trans = Lanes::select(r.hit1, trans * kt, trans);
+            }
+        }
+        trans
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    type Small = Scene<f32, 4, 8, 2, 1>;
+
+    #[test]
+    fn capacity_errors_say_what_did_not_fit() {
+        let mut s = Small::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        s.add_material(Material::diffuse(Vec3::new(1.0, 0.0, 0.0))).unwrap();
+        assert_eq!(
+            s.add_material(Material::diffuse(Vec3::ZERO)),
+            Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Materials, capacity: 2, needed: 3 }))
+        );
+        for i in 0..4 {
+            s.add_sphere(Vec3::new(i as f32, 0.0, 0.0), 1.0, m).unwrap();
+        }
+        assert_eq!(
+            s.add_sphere(Vec3::ZERO, 1.0, m),
+            Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Primitives, capacity: 4, needed: 5 }))
+        );
+        s.add_light(Vec3::ZERO, Vec3::new(1.0, 1.0, 1.0)).unwrap();
+        assert_eq!(
+            s.add_light(Vec3::ZERO, Vec3::new(1.0, 1.0, 1.0)),
+            Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Lights, capacity: 1, needed: 2 }))
+        );
+    }
+
+    #[test]
+    fn vertex_pool_overflow_is_reported_and_rolled_back() {
+        let mut s = Small::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        let tri = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        s.add_polygon(&tri, m).unwrap();
+        s.add_polygon(&tri, m).unwrap();
+        assert_eq!(
+            s.add_polygon(&tri, m),
+            Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Vertices, capacity: 8, needed: 9 }))
+        );
+        assert_eq!(s.vertex_count(), 6);
+        assert_eq!(s.len(), 2);
+    }
+
+    #[test]
+    fn invalid_input_is_an_error_not_a_panic() {
+        let mut s = Small::new();
+        assert_eq!(s.add_sphere(Vec3::ZERO, 1.0, 0), Err(SceneError::UnknownMaterial(0)));
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        assert_eq!(s.add_sphere(Vec3::ZERO, 0.0, m), Err(SceneError::Geometry(GeometryError::NonPositiveRadius)));
+        assert_eq!(
+            s.add_polygon(&[Vec3::ZERO, Vec3::ZERO], m),
+            Err(SceneError::Geometry(GeometryError::TooFewVertices(2)))
+        );
+        let tri = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        assert_eq!(
+            s.add_patch(&tri, &[Vec3::new(0.0, 0.0, 1.0), Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)], m),
+            Err(SceneError::Geometry(GeometryError::ZeroLengthAxis))
+        );
+        let mut bad = Material::diffuse(Vec3::new(1.0, 1.0, 1.0));
+        bad.ior = 0.0;
+        assert!(matches!(s.add_material(bad), Err(SceneError::InvalidMaterial(_))));
+        bad.ior = f32::NAN;
+        assert_eq!(s.add_material(bad), Err(SceneError::Geometry(GeometryError::NonFinite)));
+    }
+
+    #[test]
+    fn degenerate_polygons_are_counted_and_keep_indices() {
+        let mut s = Small::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        let line = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0)];
+        assert_eq!(s.add_polygon(&line, m), Ok(0));
+        assert_eq!(s.add_sphere(Vec3::ZERO, 1.0, m), Ok(1));
+        assert_eq!(s.degenerate_polygons(), 1);
+    }
+
+    #[test]
+    fn closest_hit_prefers_nearest_then_lowest_index() {
+        let mut s = Small::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        s.add_sphere(Vec3::new(0.0, 0.0, 10.0), 1.0, m).unwrap();
+        s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, m).unwrap();
+        s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, m).unwrap(); // same surface as 1
+        let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
+        let h = s.view().closest_hit(&ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), Mask::splat(true));
+        assert!(h.mask.0[0]);
+        assert_eq!(h.prim[0], 1);
+        assert_eq!(h.t.0[0], 4.0);
+    }
+
+    #[test]
+    fn transmittance_multiplies_kt_per_crossing() {
+        let mut s = Small::new();
+        let mut glass = Material::diffuse(Vec3::new(1.0, 1.0, 1.0));
+        glass.kt = 0.5;
+        let g = s.add_material(glass).unwrap();
+        let o = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, g).unwrap();
+        let view = s.view();
+        let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
+        let all = Mask::splat(true);
+        assert_eq!(view.transmittance(&ray, Lanes::splat(0.0), Lanes::splat(10.0), all).0[0], 0.25);
+        assert_eq!(view.transmittance(&ray, Lanes::splat(0.0), Lanes::splat(5.0), all).0[0], 0.5);
+        s.add_sphere(Vec3::new(0.0, 0.0, 8.0), 0.5, o).unwrap();
+        let view = s.view();
+        assert_eq!(view.transmittance(&ray, Lanes::splat(0.0), Lanes::splat(10.0), all).0[0], 0.0);
+    }
+}

@@ -1,0 +1,406 @@
+//! The Whitted integrator and plain ray casting, iterative and bounded, for
+//! packets of any width.
+//!
+//! A packet's pending secondary rays (reflected, refracted) live on a
+//! fixed-capacity stack whose capacity `D` is the largest depth the tracer
+//! accepts: depth-first order leaves at most one pending sibling per level,
+//! so `D` entries always suffice. Lanes stay bound to their pixel all the way
+//! down; a lane that finishes (misses, runs out of depth or of weight) simply
+//! drops out of the packet's mask, and a packet with no lanes left is not
+//! traced.
+//!
+//! Determinism: every lane performs exactly the operations the width-1 tracer
+//! performs for it, in the same order (contributions are added in the same
+//! depth-first order, lights in scene order), so the result does not depend
+//! on the packet width.
+
+use crate::lanes::{Lanes, Mask};
+use crate::ray::RayPacket;
+use crate::scalar::Scalar;
+use crate::scene::{Hit, SceneView};
+use crate::vec3::{Vec3, Vec3xW};
+use heapless::Vec as HVec;
+
+/// How rays are traced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Primary rays only: local shading at the first hit, no shadows, no
+    /// secondary rays.
+    Cast,
+    /// Whitted ray tracing: shadows, reflection and refraction.
+    Whitted,
+}
+
+/// Settings of the tracer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceSettings<S> {
+    /// Cast or Whitted.
+    pub mode: Mode,
+    /// Maximum number of ray segments in a path (primary = 1); a ray beyond it
+    /// contributes black.
+    pub max_depth: u32,
+    /// Secondary rays whose weight falls to this or below are not traced.
+    pub min_weight: S,
+}
+
+impl<S: Scalar> Default for TraceSettings<S> {
+    fn default() -> Self {
+        TraceSettings {
+            mode: Mode::Whitted,
+            max_depth: 5,
+            min_weight: S::MIN_WEIGHT,
+        }
+    }
+}
+
+/// Numbers of rays traced, by kind (one per active lane).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayStats {
+    /// Camera rays.
+    pub primary: u64,
+    /// Shadow rays (one per lit lane and light).
+    pub shadow: u64,
+    /// Mirror-reflected rays.
+    pub reflected: u64,
+    /// Refracted rays.
+    pub refracted: u64,
+}
+
+impl RayStats {
+    /// All rays.
+    pub fn total(&self) -> u64 {
+        self.primary + self.shadow + self.reflected + self.refracted
+    }
+    /// Adds another tally to this one.
+    pub fn merge(&mut self, o: &RayStats) {
+        self.primary += o.primary;
+        self.shadow += o.shadow;
+        self.reflected += o.reflected;
+        self.refracted += o.refracted;
+    }
+}
+
+/// The settings ask for more depth than the tracer's stack holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DepthError {
+    /// The depth asked for.
+    pub requested: u32,
+    /// The largest depth this tracer supports (its `D`).
+    pub supported: u32,
+}
+
+impl core::fmt::Display for DepthError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "depth {} not supported (1 to {})", self.requested, self.supported)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RayKind {
+    Primary,
+    Reflected,
+    Refracted,
+}
+
+/// A packet waiting on the stack.
+#[derive(Clone, Copy)]
+struct Pending<S, const W: usize> {
+    ray: RayPacket<S, W>,
+    /// Weight of this ray's contribution to its pixel.
+    weight: Lanes<S, W>,
+    active: Mask<W>,
+    depth: u32,
+    kind: RayKind,
+}
+
+/// What shading needs at the hit point of each lane.
+pub struct SurfacePacket<S, const W: usize> {
+    /// Hit points.
+    pub point: Vec3xW<S, W>,
+    /// Geometric normal, unit, turned to face the incoming ray.
+    pub geometric: Vec3xW<S, W>,
+    /// Shading normal, unit, on the same side as `geometric`.
+    pub shading: Vec3xW<S, W>,
+    /// Lanes where the ray arrives on the outer side of the surface.
+    pub entering: Mask<W>,
+}
+
+/// A tracer over one scene, with a bounded stack of `D` pending packets
+/// (so depths 1 to `D` are supported).
+#[derive(Clone, Copy, Debug)]
+pub struct Tracer<'a, S, const D: usize = 8> {
+    scene: SceneView<'a, S>,
+    settings: TraceSettings<S>,
+}
+
+impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
+    /// A tracer; errors if `settings.max_depth` is 0 or exceeds `D`.
+    pub fn new(scene: SceneView<'a, S>, settings: TraceSettings<S>) -> Result<Self, DepthError> {
+        if settings.max_depth == 0 || settings.max_depth as usize > D {
+            return Err(DepthError {
+                requested: settings.max_depth,
+                supported: D as u32,
+            });
+        }
+        Ok(Tracer { scene, settings })
+    }
+
+    /// The scene traced.
+    pub fn scene(&self) -> &SceneView<'a, S> {
+        &self.scene
+    }
+    /// The settings.
+    pub fn settings(&self) -> &TraceSettings<S> {
+        &self.settings
+    }
+
+    /// Surface data at the closest hits of `ray` (lanes outside `hit.mask`
+    /// hold zeros).
+    pub fn surface<const W: usize>(&self, ray: &RayPacket<S, W>, hit: &Hit<S, W>) -> SurfacePacket<S, W> {
+        let point = ray.at(hit.t);
+        let zero = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
+        let mut ng = zero;
+        let mut ns = zero;
+        let prims = self.scene.primitives();
+        let pool = self.scene.vertices();
+        // Gather: each lane hit its own primitive.
+        for l in 0..W {
+            if !hit.mask.0[l] {
+                continue;
+            }
+            if let Some(p) = prims.get(hit.prim[l] as usize) {
+                let pl = point.lane(l);
+                let g = p.shape.normal(pl).normalize_or_zero();
+                let s = p.shape.shading_normal(pool, pl, g).normalize_or_zero();
+                ng.set_lane(l, g);
+                ns.set_lane(l, if s == Vec3::ZERO { g } else { s });
+            }
+        }
+        // Turn both normals to face the ray (visibility is two-sided).
+        let cos = ray.dir.dot(ng);
+        let entering = cos.le(Lanes::zero());
+        let flip = !entering;
+        SurfacePacket {
+            point,
+            geometric: Vec3xW::select(flip, -ng, ng),
+            shading: Vec3xW::select(flip, -ns, ns),
+            entering,
+        }
+    }
+
+    /// Traces a packet of rays (unit directions) and returns the linear
+    /// colour of each active lane (zero elsewhere).
+    pub fn trace<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
+        let zero = Lanes::<S, W>::zero();
+        let mut color = Vec3::new(zero, zero, zero);
+        let mut stack: HVec<Pending<S, W>, D> = HVec::new();
+        let _ = stack.push(Pending {
+            ray: *ray,
+            weight: Lanes::splat(S::ONE),
+            active,
+            depth: 1,
+            kind: RayKind::Primary,
+        });
+        let whitted = self.settings.mode == Mode::Whitted;
+        let bg = self.scene.background();
+        while let Some(p) = stack.pop() {
+            let n = p.active.count() as u64;
+            match p.kind {
+                RayKind::Primary => stats.primary += n,
+                RayKind::Reflected => stats.reflected += n,
+                RayKind::Refracted => stats.refracted += n,
+            }
+            let hit = self.scene.closest_hit(&p.ray, zero, Lanes::splat(S::MAX), p.active);
+            // Rays that hit nothing see the background.
+            let miss = p.active.and_not(hit.mask);
+            if miss.any() {
+                let w = Lanes::select(miss, p.weight, zero);
+                color = color + bg.splat::<W>().scale(w);
+            }
+            if hit.mask.none() {
+                continue;
+            }
+            let surf = self.surface(&p.ray, &hit);
+            let mat = Materials::gather(&self.scene, &hit);
+            let local = self.local(&p.ray, &hit, &surf, &mat, whitted, stats);
+            // Local light, weighted by (1 − Kt) in Whitted mode.
+            let w_local = if whitted {
+                p.weight * (Lanes::splat(S::ONE) - mat.kt)
+            } else {
+                p.weight
+            };
+            let w_local = Lanes::select(hit.mask, w_local, zero);
+            color = color + local.scale(w_local);
+
+            if !whitted || p.depth >= self.settings.max_depth {
+                continue;
+            }
+            self.spawn(&p, &hit, &surf, &mat, &mut stack);
+        }
+        color
+    }
+
+    /// Local shading (ambient, diffuse, Phong highlight) of the hit lanes,
+    /// with shadow rays in Whitted mode.
+    fn local<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        hit: &Hit<S, W>,
+        surf: &SurfacePacket<S, W>,
+        mat: &Materials<S, W>,
+        shadows: bool,
+        stats: &mut RayStats,
+    ) -> Vec3xW<S, W> {
+        let zero = Lanes::<S, W>::zero();
+        let mut local = mat.color.scale(mat.ka);
+        let view = -ray.dir;
+        let eps = offset_scale(&surf.point);
+        let shadow_origin = surf.point + surf.geometric.scale(eps);
+        for light in self.scene.lights() {
+            // Direction and distance to the light.
+            let to_light = light.position.splat::<W>() - surf.point;
+            let (l_dir, ok) = to_light.normalize();
+            let dist = to_light.length_squared().sqrt();
+            let n_dot_l = surf.shading.dot(l_dir);
+            // Only lights on the lit side of both the geometric and the shading surface.
+            let lit = hit.mask & ok & n_dot_l.gt(zero) & surf.geometric.dot(l_dir).gt(zero);
+            if lit.none() {
+                continue;
+            }
+            let trans = if shadows {
+                stats.shadow += lit.count() as u64;
+                let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
+                self.scene.transmittance(&shadow, zero, dist, lit)
+            } else {
+                Lanes::select(lit, Lanes::splat(S::ONE), zero)
+            };
+            let lit = lit & trans.gt(zero);
+            if lit.none() {
+                continue;
+            }
+            // Phong: R = 2(N·L)N − L, highlight Ks·max(0, R·V)^shine.
+            let r = surf.shading.scale(n_dot_l * S::TWO) - l_dir;
+            let r_dot_v = r.dot(view);
+            let mut spec = zero;
+            for l in 0..W {
+                if lit.0[l] && r_dot_v.0[l] > S::ZERO && mat.ks.0[l] != S::ZERO {
+                    spec.0[l] = mat.ks.0[l] * r_dot_v.0[l].min(S::ONE).powf(mat.shine.0[l]);
+                }
+            }
+            let diffuse = mat.kd * n_dot_l;
+            let shade = mat.color.scale(diffuse);
+            let shade = Vec3::new(shade.x + spec, shade.y + spec, shade.z + spec);
+            let contrib = shade.mul_elem(light.color.splat::<W>()).scale(trans);
+            local = local + Vec3xW::select(lit, contrib, Vec3::new(zero, zero, zero));
+        }
+        Vec3xW::select(hit.mask, local, Vec3::new(zero, zero, zero))
+    }
+
+    /// Pushes the reflected and refracted packets of a hit packet.
+    fn spawn<const W: usize>(
+        &self,
+        p: &Pending<S, W>,
+        hit: &Hit<S, W>,
+        surf: &SurfacePacket<S, W>,
+        mat: &Materials<S, W>,
+        stack: &mut HVec<Pending<S, W>, D>,
+    ) {
+        let zero = Lanes::<S, W>::zero();
+        let one = Lanes::<S, W>::splat(S::ONE);
+        let d = p.ray.dir;
+        let n = surf.shading;
+        // cos θi = −d·N (N faces the ray).
+        let cos_i = -(d.dot(n));
+        // Relative index η = n₁/n₂: entering goes from outside (1) into the material.
+        let ior = mat.ior;
+        let eta = Lanes::select(surf.entering, one.div_nonzero(ior), ior);
+        // k = 1 − η²(1 − cos²θi); negative means total internal reflection.
+        let k = one - eta * eta * (one - cos_i * cos_i);
+        let has_t = hit.mask & mat.kt.gt(zero);
+        let tir = has_t & k.lt(zero);
+        let w_refl = p.weight * mat.kr + Lanes::select(tir, p.weight * mat.kt, zero);
+        let w_refr = Lanes::select(has_t.and_not(tir), p.weight * mat.kt, zero);
+        let min_w = Lanes::splat(self.settings.min_weight);
+        let refl = hit.mask & w_refl.gt(min_w);
+        let refr = has_t.and_not(tir) & w_refr.gt(min_w);
+
+        let eps = offset_scale(&surf.point);
+        let off = surf.geometric.scale(eps);
+        // Refracted: T = η d + (η cos θi − √k) N, leaving from the far side.
+        if refr.any() {
+            let sq = Lanes::select(refr, k, zero).sqrt();
+            let t_dir = d.scale(eta) + n.scale(eta * cos_i - sq);
+            let (t_dir, ok) = t_dir.normalize();
+            let _ = stack.push(Pending {
+                ray: RayPacket { origin: surf.point - off, dir: t_dir },
+                weight: Lanes::select(refr, w_refr, zero),
+                active: refr & ok,
+                depth: p.depth + 1,
+                kind: RayKind::Refracted,
+            });
+        }
+        // Reflected: R = d + 2 cos θi N, leaving from the near side.
+        if refl.any() {
+            let r_dir = d + n.scale(cos_i * S::TWO);
+            let (r_dir, ok) = r_dir.normalize();
+            let _ = stack.push(Pending {
+                ray: RayPacket { origin: surf.point + off, dir: r_dir },
+                weight: Lanes::select(refl, w_refl, zero),
+                active: refl & ok,
+                depth: p.depth + 1,
+                kind: RayKind::Reflected,
+            });
+        }
+    }
+}
+
+/// Size of the offset that moves secondary-ray origins off a surface:
+/// `RAY_EPSILON · (1 + max|P|)`, so it scales with the coordinates' magnitude.
+#[inline(always)]
+fn offset_scale<S: Scalar, const W: usize>(p: &Vec3xW<S, W>) -> Lanes<S, W> {
+    let m = p.x.abs().max(p.y.abs()).max(p.z.abs());
+    (m + S::ONE) * S::RAY_EPSILON
+}
+
+/// Material parameters gathered per lane.
+struct Materials<S, const W: usize> {
+    color: Vec3xW<S, W>,
+    ka: Lanes<S, W>,
+    kd: Lanes<S, W>,
+    ks: Lanes<S, W>,
+    shine: Lanes<S, W>,
+    kr: Lanes<S, W>,
+    kt: Lanes<S, W>,
+    ior: Lanes<S, W>,
+}
+
+impl<S: Scalar, const W: usize> Materials<S, W> {
+    fn gather(scene: &SceneView<'_, S>, hit: &Hit<S, W>) -> Self {
+        let z = Lanes::zero();
+        let mut m = Materials {
+            color: Vec3::new(z, z, z),
+            ka: z,
+            kd: z,
+            ks: z,
+            shine: z,
+            kr: z,
+            kt: z,
+            ior: Lanes::splat(S::ONE),
+        };
+        for l in 0..W {
+            if !hit.mask.0[l] {
+                continue;
+            }
+            let mat = scene.material_of(hit.prim[l]);
+            m.color.set_lane(l, mat.color);
+            m.ka.0[l] = mat.ka;
+            m.kd.0[l] = mat.kd;
+            m.ks.0[l] = mat.ks;
+            m.shine.0[l] = mat.shine;
+            m.kr.0[l] = mat.kr;
+            m.kt.0[l] = mat.kt;
+            m.ior.0[l] = mat.ior;
+        }
+        m
+    }
+}
