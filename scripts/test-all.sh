@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Runs every raypack test. Works on a fresh Debian machine with rustup:
+# installs the rustup targets (and, once firmware exists, QEMU) it needs.
+# A missing tool is a failure with a clear message, never a silent skip.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+say() { printf '\n== %s\n' "$*"; }
+
+say "rustup targets"
+rustup target add thumbv7em-none-eabihf >/dev/null
+
+say "cargo test (host, all features)"
+cargo test --all-features
+
+say "core builds for bare metal (no_std, no alloc)"
+cargo build --lib --no-default-features --target thumbv7em-none-eabihf
+
+say "docs build without warnings"
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --all-features -q
+
+say "all tests passed"
