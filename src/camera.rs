@@ -162,15 +162,16 @@ impl<S: Scalar> Camera<S> {
         for l in 0..W {
             let i = x + (l as u32 % pw);
             let j = y + (l as u32 / pw);
-            inside.0[l] = i >= clip.x
+            let inside_l = i >= clip.x
                 && i - clip.x < clip.w
                 && j >= clip.y
                 && j - clip.y < clip.h
                 && i < self.width
                 && j < self.height;
+            inside.set(l, inside_l);
             // Screen coordinates of the pixel centre (see the module docs).
-            let i = if inside.0[l] { i } else { 0 };
-            let j = if inside.0[l] { j } else { 0 };
+            let i = if inside_l { i } else { 0 };
+            let j = if inside_l { j } else { 0 };
             let ci = S::from_i32(i as i32) * two + S::ONE;
             let cj = S::from_i32(j as i32) * two + S::ONE;
             sx.0[l] = (ci / self.w_s - S::ONE) * self.sx_scale;
@@ -212,7 +213,7 @@ mod tests {
         // 90° vfov: tan = 1; 4×2 image: aspect 2. Pixel (0,0): sx = (1/4 − 1)·2 = −1.5, sy = 1 − 1/2 = 0.5.
         let c = cam(4, 2);
         let (ray, m) = c.packet::<1>(0, 0, c.full_rect());
-        assert!(m.0[0]);
+        assert!(m.get(0));
         let d = ray.dir.lane(0);
         let e = Vec3::new(-1.5f32, 0.5, -1.0).normalize_or_zero();
         assert!((d - e).length() < 1e-6, "{d:?}");
@@ -223,7 +224,7 @@ mod tests {
         let c = cam(5, 3);
         let (p8, m8) = c.packet::<8>(4, 2, c.full_rect());
         // Only the top-left lane (4, 2) is inside a 5×3 image.
-        assert_eq!(m8.0, [true, false, false, false, false, false, false, false]);
+        assert_eq!(m8.to_array(), [true, false, false, false, false, false, false, false]);
         let (p1, _) = c.packet::<1>(4, 2, c.full_rect());
         assert_eq!(p8.dir.lane(0), p1.dir.lane(0));
         let (p4, m4) = c.packet::<4>(0, 0, c.full_rect());

@@ -18,32 +18,80 @@
 //! The scalar tracer is the width-1 packet: `Lanes<S, 1>` runs the same code.
 
 use crate::scalar::Scalar;
-use core::ops::{Add, BitAnd, BitAndAssign, BitOr, BitOrAssign, BitXor, Div, Mul, Neg, Not, Sub};
+use core::ops::{Add, BitAnd, BitAndAssign, BitOr, BitOrAssign, BitXor, BitXorAssign, Div, Mul, Neg, Not, Sub};
 
 /// `W` scalars processed together, one per ray of a packet.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(transparent)]
 pub struct Lanes<S, const W: usize>(pub [S; W]);
 
-/// Which lanes of a packet are active (`true`) or have some property.
+/// Which lanes of a packet are active, or have some property.
+///
+/// Stored as one 32-bit word per lane, all ones (set) or all zeros (clear):
+/// the form that packed compares (`cmpps`) produce and blends (`blendvps`,
+/// `vpblendmd`) and `movmskps` consume, so masks stay in vector registers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(transparent)]
-pub struct Mask<const W: usize>(pub [bool; W]);
+pub struct Mask<const W: usize>([u32; W]);
+
+const SET: u32 = u32::MAX;
+
+#[inline(always)]
+const fn word(v: bool) -> u32 {
+    if v {
+        SET
+    } else {
+        0
+    }
+}
 
 impl<const W: usize> Mask<W> {
     /// Every lane set to `v`.
     #[inline(always)]
     pub const fn splat(v: bool) -> Self {
-        Mask([v; W])
+        Mask([word(v); W])
+    }
+    /// A mask from one flag per lane.
+    #[inline(always)]
+    pub fn from_array(v: [bool; W]) -> Self {
+        let mut r = [0; W];
+        for i in 0..W {
+            r[i] = word(v[i]);
+        }
+        Mask(r)
+    }
+    /// One flag per lane.
+    #[inline(always)]
+    pub fn to_array(self) -> [bool; W] {
+        let mut r = [false; W];
+        for i in 0..W {
+            r[i] = self.0[i] != 0;
+        }
+        r
+    }
+    /// Whether lane `i` is set (`false` for a lane index out of range).
+    #[inline(always)]
+    pub fn get(self, i: usize) -> bool {
+        match self.0.get(i) {
+            Some(&w) => w != 0,
+            None => false,
+        }
+    }
+    /// Sets or clears lane `i` (no effect for a lane index out of range).
+    #[inline(always)]
+    pub fn set(&mut self, i: usize, v: bool) {
+        if let Some(w) = self.0.get_mut(i) {
+            *w = word(v);
+        }
     }
     /// Whether any lane is set.
     #[inline(always)]
     pub fn any(self) -> bool {
-        let mut r = false;
+        let mut r = 0;
         for i in 0..W {
             r |= self.0[i];
         }
-        r
+        r != 0
     }
     /// Whether no lane is set.
     #[inline(always)]
@@ -53,18 +101,18 @@ impl<const W: usize> Mask<W> {
     /// Whether every lane is set.
     #[inline(always)]
     pub fn all(self) -> bool {
-        let mut r = true;
+        let mut r = SET;
         for i in 0..W {
             r &= self.0[i];
         }
-        r
+        r != 0
     }
     /// Number of set lanes.
     #[inline(always)]
     pub fn count(self) -> u32 {
         let mut n = 0;
         for i in 0..W {
-            n += self.0[i] as u32;
+            n += self.0[i] & 1;
         }
         n
     }
@@ -73,41 +121,43 @@ impl<const W: usize> Mask<W> {
     pub fn and_not(self, other: Self) -> Self {
         self & !other
     }
+    /// Lane `i` from `a` where set, from `b` elsewhere, for integer lanes
+    /// (such as primitive indices).
+    #[inline(always)]
+    pub fn select_u32(self, a: [u32; W], b: [u32; W]) -> [u32; W] {
+        let mut r = [0; W];
+        for i in 0..W {
+            r[i] = (a[i] & self.0[i]) | (b[i] & !self.0[i]);
+        }
+        r
+    }
 }
 
-impl<const W: usize> BitAnd for Mask<W> {
-    type Output = Self;
-    #[inline(always)]
-    fn bitand(self, o: Self) -> Self {
-        let mut r = self.0;
-        for i in 0..W {
-            r[i] &= o.0[i];
+macro_rules! mask_binop {
+    ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
+        impl<const W: usize> $tr for Mask<W> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                let mut r = self.0;
+                for i in 0..W {
+                    r[i] = r[i] $op o.0[i];
+                }
+                Mask(r)
+            }
         }
-        Mask(r)
-    }
-}
-impl<const W: usize> BitOr for Mask<W> {
-    type Output = Self;
-    #[inline(always)]
-    fn bitor(self, o: Self) -> Self {
-        let mut r = self.0;
-        for i in 0..W {
-            r[i] |= o.0[i];
+        impl<const W: usize> $tra for Mask<W> {
+            #[inline(always)]
+            fn $fa(&mut self, o: Self) {
+                *self = *self $op o;
+            }
         }
-        Mask(r)
-    }
+    };
 }
-impl<const W: usize> BitXor for Mask<W> {
-    type Output = Self;
-    #[inline(always)]
-    fn bitxor(self, o: Self) -> Self {
-        let mut r = self.0;
-        for i in 0..W {
-            r[i] ^= o.0[i];
-        }
-        Mask(r)
-    }
-}
+mask_binop!(BitAnd, bitand, BitAndAssign, bitand_assign, &);
+mask_binop!(BitOr, bitor, BitOrAssign, bitor_assign, |);
+mask_binop!(BitXor, bitxor, BitXorAssign, bitxor_assign, ^);
+
 impl<const W: usize> Not for Mask<W> {
     type Output = Self;
     #[inline(always)]
@@ -119,27 +169,15 @@ impl<const W: usize> Not for Mask<W> {
         Mask(r)
     }
 }
-impl<const W: usize> BitAndAssign for Mask<W> {
-    #[inline(always)]
-    fn bitand_assign(&mut self, o: Self) {
-        *self = *self & o;
-    }
-}
-impl<const W: usize> BitOrAssign for Mask<W> {
-    #[inline(always)]
-    fn bitor_assign(&mut self, o: Self) {
-        *self = *self | o;
-    }
-}
 
 macro_rules! lane_cmp {
     ($(#[$m:meta])* $name:ident, $op:tt) => {
         $(#[$m])*
         #[inline(always)]
         pub fn $name(self, o: Self) -> Mask<W> {
-            let mut r = [false; W];
+            let mut r = [0u32; W];
             for i in 0..W {
-                r[i] = self.0[i] $op o.0[i];
+                r[i] = word(self.0[i] $op o.0[i]);
             }
             Mask(r)
         }
@@ -162,9 +200,7 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
     pub fn select(m: Mask<W>, a: Self, b: Self) -> Self {
         let mut r = b.0;
         for i in 0..W {
-            if m.0[i] {
-                r[i] = a.0[i];
-            }
+            r[i] = if m.0[i] != 0 { a.0[i] } else { b.0[i] };
         }
         Lanes(r)
     }
@@ -282,19 +318,19 @@ mod tests {
         let a = Lanes::<f32, 4>([1.0, 2.0, 3.0, 4.0]);
         let b = Lanes::<f32, 4>::splat(0.0);
         let m = a.gt(Lanes::splat(2.5));
-        assert_eq!(m.0, [false, false, true, true]);
+        assert_eq!(m.to_array(), [false, false, true, true]);
         assert_eq!(Lanes::select(m, a, b).0, [0.0, 0.0, 3.0, 4.0]);
         assert!(m.any() && !m.all() && !m.none());
         assert_eq!(m.count(), 2);
-        assert_eq!((!m).0, [true, true, false, false]);
-        assert_eq!(m.and_not(Mask([false, false, true, false])).0, [false, false, false, true]);
+        assert_eq!((!m).to_array(), [true, true, false, false]);
+        assert_eq!(m.and_not(Mask::from_array([false, false, true, false])).to_array(), [false, false, false, true]);
     }
 
     #[test]
     fn nan_compares_false() {
         let a = Lanes::<f32, 2>([f32::NAN, 1.0]);
-        assert_eq!(a.lt(Lanes::splat(2.0)).0, [false, true]);
-        assert_eq!(a.ge(Lanes::splat(0.0)).0, [false, true]);
+        assert_eq!(a.lt(Lanes::splat(2.0)).to_array(), [false, true]);
+        assert_eq!(a.ge(Lanes::splat(0.0)).to_array(), [false, true]);
     }
 
     #[test]

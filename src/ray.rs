@@ -29,7 +29,7 @@ impl<S: Scalar, const W: usize> RayPacket<S, W> {
     pub fn new(origin: Vec3xW<S, W>, dir: Vec3xW<S, W>) -> (Self, Mask<W>) {
         let (d, mut ok) = dir.normalize();
         for i in 0..W {
-            ok.0[i] &= origin.lane(i).is_finite();
+            ok.set(i, ok.get(i) && origin.lane(i).is_finite());
         }
         let zero = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
         (
@@ -64,7 +64,7 @@ impl<S: Scalar> Ray<S> {
     /// `None` when the direction has zero length or a number is not finite.
     pub fn single(origin: Vec3<S>, dir: Vec3<S>) -> Option<Self> {
         let (r, ok) = RayPacket::new(origin.splat(), dir.splat());
-        if ok.0[0] {
+        if ok.get(0) {
             Some(r)
         } else {
             None
@@ -139,7 +139,7 @@ impl<S: Scalar, const W: usize> Roots<S, W> {
     /// Number of crossings per lane (0, 1 or 2).
     #[inline(always)]
     pub fn count(&self, lane: usize) -> u32 {
-        self.hit0.0[lane] as u32 + self.hit1.0[lane] as u32
+        self.hit0.get(lane) as u32 + self.hit1.get(lane) as u32
     }
 }
 
@@ -152,7 +152,7 @@ mod tests {
         let o = Vec3::new(Lanes([0.0f32, 0.0]), Lanes([0.0, 0.0]), Lanes([0.0, 0.0]));
         let d = Vec3::new(Lanes([0.0f32, 2.0]), Lanes([0.0, 0.0]), Lanes([0.0, 0.0]));
         let (r, ok) = RayPacket::new(o, d);
-        assert_eq!(ok.0, [false, true]);
+        assert_eq!(ok.to_array(), [false, true]);
         assert_eq!(r.dir.lane(1), Vec3::new(1.0, 0.0, 0.0));
         assert!(Ray::single(Vec3::new(0.0f32, 0.0, 0.0), Vec3::ZERO).is_none());
         assert!(Ray::single(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)).is_none());
@@ -162,14 +162,14 @@ mod tests {
     fn roots_are_ordered_and_clipped() {
         let r = Roots::<f32, 4>::from_candidates(
             Lanes([3.0, 1.0, -1.0, 5.0]),
-            Mask([true; 4]),
+            Mask::splat(true),
             Lanes([1.0, 3.0, 2.0, 6.0]),
-            Mask([true, true, true, false]),
+            Mask::from_array([true, true, true, false]),
             Lanes::splat(0.0),
             Lanes::splat(10.0),
         );
-        assert_eq!(r.hit0.0, [true, true, true, true]);
-        assert_eq!(r.hit1.0, [true, true, false, false]);
+        assert_eq!(r.hit0.to_array(), [true, true, true, true]);
+        assert_eq!(r.hit1.to_array(), [true, true, false, false]);
         assert_eq!(r.t0.0, [1.0, 1.0, 2.0, 5.0]);
         assert_eq!(r.t1.0[..2], [3.0, 3.0]);
     }

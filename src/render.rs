@@ -86,7 +86,7 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
                 let (ray, active) = self.camera.packet::<W>(rect.x + bx, rect.y + by, rect);
                 let px = self.shade_packet(&ray, active, stats);
                 for (l, p) in px.iter().enumerate() {
-                    if !active.0[l] {
+                    if !active.get(l) {
                         continue;
                     }
                     let x = bx + l as u32 % pw;
@@ -119,10 +119,10 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
                 let hit = scene.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
                 let surf = if aov == Aov::Normal { Some(self.tracer.surface(ray, &hit)) } else { None };
                 for (l, p) in px.iter_mut().enumerate() {
-                    if !active.0[l] {
+                    if !active.get(l) {
                         continue;
                     }
-                    *p = match (aov, hit.mask.0[l]) {
+                    *p = match (aov, hit.mask.get(l)) {
                         (Aov::Depth, false) => u24(0xFF_FFFF),
                         (Aov::Depth, true) => {
                             // In f32 for every scalar: fixed point's range would overflow t·256.

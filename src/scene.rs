@@ -513,11 +513,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
                 continue;
             }
             best_t = Lanes::select(m, t, best_t);
-            for i in 0..W {
-                if m.0[i] {
-                    best_id[i] = k as u32;
-                }
-            }
+            best_id = m.select_u32([k as u32; W], best_id);
             found |= m;
         }
         Hit { t: best_t, prim: best_id, mask: found }
@@ -645,7 +641,7 @@ mod tests {
         s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, m).unwrap(); // same surface as 1
         let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
         let h = s.view().closest_hit(&ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), Mask::splat(true));
-        assert!(h.mask.0[0]);
+        assert!(h.mask.get(0));
         assert_eq!(h.prim[0], 1);
         assert_eq!(h.t.0[0], 4.0);
     }

@@ -165,7 +165,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
         let pool = self.scene.vertices();
         // Gather: each lane hit its own primitive.
         for l in 0..W {
-            if !hit.mask.0[l] {
+            if !hit.mask.get(l) {
                 continue;
             }
             if let Some(p) = prims.get(hit.prim[l] as usize) {
@@ -283,7 +283,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
             let r_dot_v = r.dot(view);
             let mut spec = zero;
             for l in 0..W {
-                if lit.0[l] && r_dot_v.0[l] > S::ZERO && mat.ks.0[l] != S::ZERO {
+                if lit.get(l) && r_dot_v.0[l] > S::ZERO && mat.ks.0[l] != S::ZERO {
                     spec.0[l] = mat.ks.0[l] * r_dot_v.0[l].min(S::ONE).powf(mat.shine.0[l]);
                 }
             }
@@ -388,7 +388,7 @@ impl<S: Scalar, const W: usize> Materials<S, W> {
             ior: Lanes::splat(S::ONE),
         };
         for l in 0..W {
-            if !hit.mask.0[l] {
+            if !hit.mask.get(l) {
                 continue;
             }
             let mat = scene.material_of(hit.prim[l]);

@@ -196,7 +196,7 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
         let len = self.length_squared().sqrt();
         let mut ok = len.gt(Lanes::zero());
         for i in 0..W {
-            ok.0[i] &= len.0[i].is_finite();
+            ok.set(i, ok.get(i) && len.0[i].is_finite());
         }
         let inv = Lanes::splat(S::ONE).div_nonzero(Lanes::select(ok, len, Lanes::splat(S::ZERO)));
         let n = self.scale(inv);
@@ -235,7 +235,7 @@ mod tests {
         assert_eq!(Vec3::<f32>::ZERO.normalize_or_zero(), Vec3::ZERO);
         let p: Vec3xW<f32, 2> = Vec3::new(Lanes([0.0, 3.0]), Lanes([0.0, 4.0]), Lanes([0.0, 0.0]));
         let (n, ok) = p.normalize();
-        assert_eq!(ok.0, [false, true]);
+        assert_eq!(ok.to_array(), [false, true]);
         assert_eq!(n.lane(0), Vec3::ZERO);
         assert_eq!(n.lane(1), Vec3::new(0.6, 0.8, 0.0));
     }

@@ -227,7 +227,7 @@ fn check_kind(seed: u64, k: u32, rays: usize) -> (usize, usize) {
         let at = |t: f64| add(po, scale(pd, t));
         let scale_of = 1.0 + len(po);
         // Sample the implicit function for robust sign changes before t_end.
-        let t_end = if h.mask.0[0] { h.t.0[0] as f64 * (1.0 - 1e-4) - 1e-4 } else { 40.0 };
+        let t_end = if h.mask.get(0) { h.t.0[0] as f64 * (1.0 - 1e-4) - 1e-4 } else { 40.0 };
         let n = 4000;
         let mut prev = (1e-3, imp.f(at(1e-3)));
         for s in 1..=n {
@@ -251,13 +251,13 @@ fn check_kind(seed: u64, k: u32, rays: usize) -> (usize, usize) {
                 if imp.valid(at(tc), 1e-3 * scale_of) == Some(true) && slope > 1e-4 && (t_end - tc) > 1e-3 * scale_of {
                     panic!(
                         "{} (seed {seed}): crossing at t = {tc} before the reported {} (hit: {}), ray {:?} {:?}",
-                        KINDS[k as usize], h.t.0[0], h.mask.0[0], po, pd
+                        KINDS[k as usize], h.t.0[0], h.mask.get(0), po, pd
                     );
                 }
             }
             prev = (t, f);
         }
-        if h.mask.0[0] {
+        if h.mask.get(0) {
             hits += 1;
             let p = at(h.t.0[0] as f64);
             let tol = 2e-5 * (scale_of + h.t.0[0] as f64) * if matches!(prim.shape, Shape::Quadric(_)) { 20.0 } else { 1.0 };
@@ -320,10 +320,10 @@ fn widths_give_identical_hits_and_normals() {
             }
             for l in 0..8 {
                 let (p1, m1) = RayPacket::<f32, 1>::new(org.lane(l).splat(), dir.lane(l).splat());
-                assert_eq!(m1.0[0], m8.0[l]);
+                assert_eq!(m1.get(0), m8.get(l));
                 let h1 = view.closest_hit(&p1, Lanes::zero(), Lanes::splat(f32::MAX), m1);
-                assert_eq!(h1.mask.0[0], h8.mask.0[l]);
-                if !h1.mask.0[0] {
+                assert_eq!(h1.mask.get(0), h8.mask.get(l));
+                if !h1.mask.get(0) {
                     continue;
                 }
                 assert_eq!(h1.t.0[0].to_bits(), h8.t.0[l].to_bits());
@@ -379,7 +379,7 @@ fn trace_never_returns_nan_even_for_degenerate_rays() {
     let org = Vec3::new(Lanes([0.0f32, 1.0, f32::NAN, 0.0]), Lanes([0.0, 0.0, 0.0, f32::INFINITY]), Lanes([9.0; 4]));
     let dir = Vec3::new(Lanes([0.0f32, 0.0, 0.0, 0.0]), Lanes([0.0, f32::NAN, 0.0, 0.0]), Lanes([0.0, -1.0, -1.0, -1.0]));
     let (p, m) = RayPacket::new(org, dir);
-    assert_eq!(m.0, [false, false, false, false]);
+    assert_eq!(m.to_array(), [false, false, false, false]);
     let c = tracer.trace(&p, m, &mut st);
     for l in 0..4 {
         assert_eq!(c.lane(l), Vec3::ZERO);

@@ -210,10 +210,10 @@ pub(crate) mod test_util {
         let (ray, active) = packet::<W>(lane, o, d);
         let r = shape.roots(pool, &ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), active);
         let mut out = Vec::new();
-        if r.hit0.0[lane] {
+        if r.hit0.get(lane) {
             out.push(r.t0.0[lane].to_bits());
         }
-        if r.hit1.0[lane] {
+        if r.hit1.get(lane) {
             out.push(r.t1.0[lane].to_bits());
         }
         out
