@@ -62,6 +62,32 @@ fn bench_primary(c: &mut Criterion) {
     g.finish();
 }
 
+/// The bare ray-sphere kernel: every packet against one sphere it partly
+/// covers (about half the rays hit), no scene loop.
+fn kernel_all<const W: usize>(s: &raypack::primitives::Sphere<f32>, ps: &[(RayPacket<f32, W>, Mask<W>)]) -> u32 {
+    let mut hits = 0;
+    for (ray, m) in ps {
+        let r = s.roots(ray, Lanes::zero(), Lanes::splat(f32::MAX), *m);
+        hits += r.hit0.count();
+    }
+    hits
+}
+
+fn bench_kernel(c: &mut Criterion) {
+    let cam = Camera::new(Vec3::new(0.0, 0.0, 12.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 40.0, SIZE, SIZE).unwrap();
+    let s = raypack::primitives::Sphere::new(Vec3::new(0.5, -0.3, 0.0), 2.5).unwrap();
+    let p1 = packets::<1>(&cam);
+    let p4 = packets::<4>(&cam);
+    let p8 = packets::<8>(&cam);
+    assert_eq!(kernel_all(&s, &p1), kernel_all(&s, &p8));
+    let mut g = c.benchmark_group("sphere_kernel");
+    g.throughput(Throughput::Elements((SIZE * SIZE) as u64));
+    g.bench_function(BenchmarkId::new("width", 1), |b| b.iter(|| kernel_all(black_box(&s), black_box(&p1))));
+    g.bench_function(BenchmarkId::new("width", 4), |b| b.iter(|| kernel_all(black_box(&s), black_box(&p4))));
+    g.bench_function(BenchmarkId::new("width", 8), |b| b.iter(|| kernel_all(black_box(&s), black_box(&p8))));
+    g.finish();
+}
+
 fn render<const W: usize>(r: &Renderer<'_, f32>, img: &mut [Rgb8]) -> u64 {
     let mut st = RayStats::default();
     r.render_rect::<W>(r.camera.full_rect(), img, &mut st).unwrap();
@@ -85,6 +111,6 @@ fn bench_whitted(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
-    targets = bench_primary, bench_whitted
+    targets = bench_kernel, bench_primary, bench_whitted
 }
 criterion_main!(benches);

@@ -130,6 +130,22 @@ impl<S: Scalar, const W: usize> Roots<S, W> {
         }
     }
 
+    /// Builds the result from two roots already ordered (`near <= far`
+    /// wherever `ok` is set), both existing where `ok` is set: cheaper than
+    /// [`Roots::from_candidates`] because nothing needs swapping.
+    #[inline(always)]
+    pub fn from_ordered(near: Lanes<S, W>, far: Lanes<S, W>, ok: Mask<W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>) -> Self {
+        let near_in = ok & near.gt(t_min) & near.lt(t_max);
+        let far_in = ok & far.gt(t_min) & far.lt(t_max);
+        // The first crossing is the near root if it is in the interval, else the far one.
+        Roots {
+            t0: Lanes::select(near_in, near, Lanes::select(far_in, far, Lanes::splat(S::MAX))),
+            t1: Lanes::select(near_in & far_in, far, Lanes::splat(S::MAX)),
+            hit0: near_in | far_in,
+            hit1: near_in & far_in,
+        }
+    }
+
     /// The nearest crossing per lane and where one exists.
     #[inline(always)]
     pub fn nearest(&self) -> (Lanes<S, W>, Mask<W>) {

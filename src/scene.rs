@@ -500,21 +500,24 @@ impl<'a, S: Scalar> SceneView<'a, S> {
     ) -> Hit<S, W> {
         let mut best_t = t_max;
         let mut best_id = [u32::MAX; W];
-        let mut found = Mask::splat(false);
-        if active.none() {
-            return Hit { t: best_t, prim: best_id, mask: found };
-        }
-        for (k, p) in self.prims.iter().enumerate() {
-            // Only roots strictly nearer than the best so far come back, so a
-            // later primitive at the same distance never replaces an earlier one.
-            let r = p.shape.roots(self.verts, ray, t_min, best_t, active);
-            let (t, m) = r.nearest();
-            if m.none() {
-                continue;
+        if active.any() {
+            for (k, p) in self.prims.iter().enumerate() {
+                // Only roots strictly nearer than the best so far come back, so a
+                // later primitive at the same distance never replaces an earlier one.
+                let r = p.shape.roots(self.verts, ray, t_min, best_t, active);
+                let (t, m) = r.nearest();
+                if m.none() {
+                    continue;
+                }
+                best_t = Lanes::select(m, t, best_t);
+                best_id = m.select_u32([k as u32; W], best_id);
             }
-            best_t = Lanes::select(m, t, best_t);
-            best_id = m.select_u32([k as u32; W], best_id);
-            found |= m;
+        }
+        // Which lanes found something follows from the ids (kept out of the
+        // loop to leave registers for the ray).
+        let mut found = Mask::splat(false);
+        for i in 0..W {
+            found.set(i, best_id[i] != u32::MAX);
         }
         Hit { t: best_t, prim: best_id, mask: found }
     }

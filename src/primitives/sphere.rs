@@ -67,12 +67,18 @@ impl<S: Scalar> Sphere<S> {
         let c = oc.dot(oc) - Lanes::splat(self.radius2);
         let sq = disc.sqrt();
         // q = −(b + sign(b)·√Δ) avoids subtracting nearly equal numbers; the
-        // roots are then t = q and t = c/q (a = 1).
-        let q = Lanes::select(b.ge(Lanes::zero()), -b - sq, sq - b);
+        // roots are then q and c/q (a = 1). Their sum is −2b, so q lies on
+        // the far side of −b from the other root: q is the smaller root when
+        // b >= 0 and the larger when b < 0. That orders them without a compare.
+        let b_pos = b.ge(Lanes::zero());
+        let q = Lanes::select(b_pos, -b - sq, sq - b);
+        // c/q guarded against q = 0 (tangent ray starting on the surface: the
+        // double root is 0, outside any interval with t_min >= 0).
         let q_ok = q.ne_lanes(Lanes::zero());
-        let t_a = q;
-        let t_b = c.div_nonzero(q);
-        Roots::from_candidates(t_a, valid, t_b, valid & q_ok, t_min, t_max)
+        let cq = c.div_nonzero(q);
+        let near = Lanes::select(b_pos, q, cq);
+        let far = Lanes::select(b_pos, cq, q);
+        Roots::from_ordered(near, far, valid & q_ok, t_min, t_max)
     }
 
     /// Outward normal (not normalized) at a point on the surface.
