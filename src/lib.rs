@@ -27,6 +27,7 @@
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
+pub mod bvh;
 pub mod camera;
 pub mod demo;
 pub mod lanes;
@@ -42,6 +43,7 @@ pub use scalar::Scalar;
 
 /// The types most programs need.
 pub mod prelude {
+    pub use crate::bvh::{BuildSettings, Bvh, BvhError, BvhStats};
     pub use crate::camera::{Camera, CameraError, Rect};
     pub use crate::lanes::{Lanes, Mask};
     pub use crate::primitives::{Quadric, Shape, ShapeKind};
