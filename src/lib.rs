@@ -30,6 +30,7 @@
 pub mod camera;
 pub mod demo;
 pub mod lanes;
+pub mod output;
 pub mod primitives;
 pub mod ray;
 pub mod render;
