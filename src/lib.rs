@@ -32,6 +32,7 @@ pub mod demo;
 pub mod fixed;
 pub mod lanes;
 pub mod nff;
+pub mod output;
 pub mod primitives;
 pub mod range;
 pub mod ray;
