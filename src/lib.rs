@@ -27,6 +27,7 @@
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
+pub mod bvh;
 pub mod camera;
 pub mod demo;
 pub mod fixed;
@@ -47,6 +48,7 @@ pub use scalar::Scalar;
 
 /// The types most programs need.
 pub mod prelude {
+    pub use crate::bvh::{BuildSettings, Bvh, BvhError, BvhStats};
     pub use crate::camera::{Camera, CameraError, Rect};
     pub use crate::fixed::Fixed;
     pub use crate::range::{check_scene, RangeError, RangeItem};
