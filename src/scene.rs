@@ -8,6 +8,7 @@
 use crate::bvh::{Bvh, BvhError, BvhView};
 use crate::lanes::{Lanes, Mask};
 use crate::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Polygon, Quadric, Shape, ShapeKind, Sphere};
+use crate::range::{self, RangeError, RangeItem};
 use crate::ray::RayPacket;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -150,6 +151,9 @@ pub enum SceneError {
     UnknownMaterial(u16),
     /// A material parameter is out of range.
     InvalidMaterial(&'static str),
+    /// A coordinate is beyond what the scalar type represents safely
+    /// (fixed point; see [`crate::range`]).
+    OutOfRange(RangeError),
 }
 
 impl From<GeometryError> for SceneError {
@@ -157,6 +161,12 @@ impl From<GeometryError> for SceneError {
         SceneError::Geometry(e)
     }
 }
+impl From<RangeError> for SceneError {
+    fn from(e: RangeError) -> Self {
+        SceneError::OutOfRange(e)
+    }
+}
+
 impl From<CapacityError> for SceneError {
     fn from(e: CapacityError) -> Self {
         SceneError::Capacity(e)
@@ -170,6 +180,7 @@ impl core::fmt::Display for SceneError {
             SceneError::Geometry(g) => g.fmt(f),
             SceneError::UnknownMaterial(m) => write!(f, "unknown material {m}"),
             SceneError::InvalidMaterial(why) => write!(f, "invalid material: {why}"),
+            SceneError::OutOfRange(r) => r.fmt(f),
         }
     }
 }
@@ -237,6 +248,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             return Err(GeometryError::NonFinite.into());
         }
         let n = self.lights.len();
+        range::check_point(position, RangeItem::Light(n as u32))?;
         self.lights
             .push(Light { position, color })
             .map_err(|_| full(CapacityKind::Lights, L, n + 1))
@@ -249,6 +261,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             return Err(SceneError::UnknownMaterial(material));
         }
         let id = self.prims.len();
+        range::check_shape(&shape, &self.verts, id as u32)?;
         self.prims
             .push(Primitive { shape, material })
             .map_err(|_| full(CapacityKind::Primitives, P, id + 1))?;
