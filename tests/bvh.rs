@@ -106,3 +106,30 @@ fn random_rays_hit_the_same_primitive_at_the_same_distance() {
     assert!(hits > 4000, "{hits}");
     assert!(partial > 100, "{partial}");
 }
+
+/// The demo scene (every primitive kind, mirror and glass) in `f32` and in
+/// fixed point: the BVH image equals the brute-force image at widths 1, 4, 8.
+#[test]
+fn demo_scene_matches_brute_force_in_f32_and_fixed_point() {
+    fn check<S: Scalar>() {
+        let scene = raypack::demo::demo_scene::<S>().unwrap();
+        let mut bvh: Bvh<S, 16> = Bvh::new();
+        bvh.build(&scene.view()).unwrap();
+        let tree = scene.view().with_bvh(&bvh).unwrap();
+        let camera = raypack::demo::demo_camera::<S>(48, 36).unwrap();
+        let settings = TraceSettings::default();
+        for aov in [Aov::Color, Aov::Id] {
+            let (reference, rs) = render_in::<S, 8>(&scene.view(), camera, settings, aov, 64);
+            for (img, st) in [
+                render_in::<S, 1>(&tree, camera, settings, aov, 7),
+                render_in::<S, 4>(&tree, camera, settings, aov, 16),
+                render_in::<S, 8>(&tree, camera, settings, aov, 64),
+            ] {
+                assert!(img == reference, "{aov:?}: BVH image differs");
+                assert_eq!(st, rs);
+            }
+        }
+    }
+    check::<f32>();
+    check::<Fixed>();
+}

@@ -56,6 +56,12 @@ pub const MAX_DEPTH: usize = 48;
 /// low two.
 const AXIS_MASK: u32 = 3;
 
+// The footprint on every target (all fields are 4-byte scalars or u32, so
+// 32-bit targets have the same layout): 32-byte nodes, and for the demo
+// scene's capacity (16 primitives) 2·16 nodes + 16 indices + the stats.
+const _: () = assert!(core::mem::size_of::<BvhNode<f32>>() == 32);
+const _: () = assert!(core::mem::size_of::<Bvh<f32, 16>>() == 2 * 16 * 32 + 16 * 4 + 24);
+
 /// One node: its box and a link.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BvhNode<S> {
