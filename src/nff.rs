@@ -184,6 +184,9 @@ pub enum NffErrorKind {
     },
     /// Material numbers out of range.
     InvalidMaterial(&'static str),
+    /// A coordinate is beyond what the scalar type represents safely
+    /// (fixed point; see [`crate::range`]).
+    OutOfRange(crate::range::RangeError),
 }
 
 impl core::fmt::Display for NffErrorKind {
@@ -216,6 +219,7 @@ impl core::fmt::Display for NffErrorKind {
             NoMaterial(what) => write!(f, "{what} before any `f` or `fx` material"),
             Geometry { what, error } => write!(f, "invalid {what}: {error}"),
             InvalidMaterial(why) => write!(f, "invalid material: {why}"),
+            OutOfRange(r) => r.fmt(f),
         }
     }
 }
@@ -600,6 +604,7 @@ fn scene_error(line: &Line, what: &'static str, e: SceneError) -> NffError {
         SceneError::Capacity(c) => NffErrorKind::Capacity(c),
         SceneError::Geometry(error) => NffErrorKind::Geometry { what, error },
         SceneError::InvalidMaterial(why) => NffErrorKind::InvalidMaterial(why),
+        SceneError::OutOfRange(r) => NffErrorKind::OutOfRange(r),
         // The reader only uses material indices it was given.
         SceneError::UnknownMaterial(_) => NffErrorKind::NoMaterial(what),
     };
