@@ -169,8 +169,9 @@ impl<S: Scalar> Camera<S> {
         let mut inside = Mask::<W>::splat(false);
         let two = S::TWO;
         for l in 0..W {
-            let i = x + (l as u32 % pw);
-            let j = y + (l as u32 / pw);
+            // Saturating: a pixel past u32::MAX is outside any image anyway.
+            let i = x.saturating_add(l as u32 % pw);
+            let j = y.saturating_add(l as u32 / pw);
             let inside_l = i >= clip.x
                 && i - clip.x < clip.w
                 && j >= clip.y

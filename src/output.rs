@@ -226,10 +226,11 @@ impl Iterator for RectPositions {
             return None;
         }
         let p = (self.rect.x.wrapping_add(self.x), self.rect.y.wrapping_add(self.y));
-        self.x += 1;
+        // `x < w` and `y < h` here, so neither increment can wrap.
+        self.x = self.x.wrapping_add(1);
         if self.x >= self.rect.w {
             self.x = 0;
-            self.y += 1;
+            self.y = self.y.wrapping_add(1);
         }
         Some(p)
     }

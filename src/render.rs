@@ -74,7 +74,9 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
     /// width `W` into `out`, row-major with row stride `rect.w`. Ray counts
     /// are added to `stats`.
     pub fn render_rect<const W: usize>(&self, rect: Rect, out: &mut [Rgb8], stats: &mut RayStats) -> Result<(), BufferTooSmall> {
-        let needed = rect.w as usize * rect.h as usize;
+        // Saturating (a 32-bit usize can overflow): an impossible size is
+        // simply larger than any buffer.
+        let needed = (rect.w as usize).saturating_mul(rect.h as usize);
         if out.len() < needed {
             return Err(BufferTooSmall { needed, provided: out.len() });
         }
@@ -83,21 +85,24 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
         while by < rect.h {
             let mut bx = 0;
             while bx < rect.w {
-                let (ray, active) = self.camera.packet::<W>(rect.x + bx, rect.y + by, rect);
+                let (ray, active) = self.camera.packet::<W>(rect.x.saturating_add(bx), rect.y.saturating_add(by), rect);
                 let px = self.shade_packet(&ray, active, stats);
                 for (l, p) in px.iter().enumerate() {
                     if !active.get(l) {
                         continue;
                     }
-                    let x = bx + l as u32 % pw;
-                    let y = by + l as u32 / pw;
-                    if let Some(slot) = out.get_mut(y as usize * rect.w as usize + x as usize) {
+                    // Active lanes lie inside `rect`, so `y·w + x < w·h <= out.len()`;
+                    // the checked arithmetic only keeps panics out of the code.
+                    let x = bx.saturating_add(l as u32 % pw);
+                    let y = by.saturating_add(l as u32 / pw);
+                    let index = (y as usize).checked_mul(rect.w as usize).and_then(|i| i.checked_add(x as usize));
+                    if let Some(slot) = index.and_then(|i| out.get_mut(i)) {
                         *slot = *p;
                     }
                 }
-                bx += pw;
+                bx = bx.saturating_add(pw);
             }
-            by += ph;
+            by = by.saturating_add(ph);
         }
         Ok(())
     }
@@ -114,7 +119,7 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
                 }
             }
             aov => {
-                stats.primary += active.count() as u64;
+                stats.primary = stats.primary.saturating_add(active.count() as u64);
                 let scene = self.tracer.scene();
                 let hit = scene.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
                 let surf = if aov == Aov::Normal { Some(self.tracer.surface(ray, &hit)) } else { None };

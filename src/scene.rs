@@ -234,11 +234,11 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         m.validate()?;
         let id = self.materials.len();
         if id > u16::MAX as usize {
-            return Err(full(CapacityKind::Materials, u16::MAX as usize + 1, id + 1));
+            return Err(full(CapacityKind::Materials, u16::MAX as usize + 1, id.saturating_add(1)));
         }
         self.materials
             .push(m)
-            .map_err(|_| full(CapacityKind::Materials, M, id + 1))?;
+            .map_err(|_| full(CapacityKind::Materials, M, id.saturating_add(1)))?;
         Ok(id as u16)
     }
 
@@ -251,7 +251,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         range::check_point(position, RangeItem::Light(n as u32))?;
         self.lights
             .push(Light { position, color })
-            .map_err(|_| full(CapacityKind::Lights, L, n + 1))
+            .map_err(|_| full(CapacityKind::Lights, L, n.saturating_add(1)))
     }
 
     /// Adds a primitive with material `material` and returns its index
@@ -264,10 +264,10 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         range::check_shape(&shape, &self.verts, id as u32)?;
         self.prims
             .push(Primitive { shape, material })
-            .map_err(|_| full(CapacityKind::Primitives, P, id + 1))?;
+            .map_err(|_| full(CapacityKind::Primitives, P, id.saturating_add(1)))?;
         if let Shape::Polygon(p) = shape {
             if p.is_degenerate() {
-                self.degenerate_polygons += 1;
+                self.degenerate_polygons = self.degenerate_polygons.saturating_add(1);
             }
         }
         Ok(id as u32)
@@ -305,7 +305,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         let n = self.verts.len();
         self.verts
             .push(v)
-            .map_err(|_| full(CapacityKind::Vertices, V, n + 1))?;
+            .map_err(|_| full(CapacityKind::Vertices, V, n.saturating_add(1)))?;
         Ok(n as u32)
     }
 
@@ -328,12 +328,12 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
     }
 
     fn check_vertex_room(&self, n: usize) -> Result<(), SceneError> {
-        let needed = self.verts.len() + n;
+        let needed = self.verts.len().saturating_add(n);
         if needed > V {
             return Err(full(CapacityKind::Vertices, V, needed));
         }
         if self.prims.len() >= P {
-            return Err(full(CapacityKind::Primitives, P, self.prims.len() + 1));
+            return Err(full(CapacityKind::Primitives, P, self.prims.len().saturating_add(1)));
         }
         Ok(())
     }
@@ -360,7 +360,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         if normals.len() != vertices.len() {
             return Err(GeometryError::VertexRange.into());
         }
-        self.check_vertex_room(2 * vertices.len())?;
+        self.check_vertex_room(vertices.len().saturating_mul(2))?;
         let mut unit = [Vec3::ZERO; 1];
         for n in normals {
             unit[0] = n.normalize_or_zero();
@@ -556,7 +556,9 @@ impl<'a, S: Scalar> SceneView<'a, S> {
         let mut best_t = t_max;
         let mut best_id = [u32::MAX; W];
         if active.any() {
-            for (k, p) in self.prims.iter().enumerate() {
+            // (A `Range` index rather than `enumerate`, whose counter has an
+            // overflow check in debug builds: the render path has no panic path.)
+            for (k, p) in (0..self.prims.len()).zip(self.prims.iter()) {
                 // Only roots strictly nearer than the best so far come back, so a
                 // later primitive at the same distance never replaces an earlier one.
                 let r = p.shape.roots(self.verts, ray, t_min, best_t, active);

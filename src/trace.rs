@@ -67,16 +67,19 @@ pub struct RayStats {
 }
 
 impl RayStats {
-    /// All rays.
+    /// All rays (saturating: the counters never panic).
     pub fn total(&self) -> u64 {
-        self.primary + self.shadow + self.reflected + self.refracted
+        self.primary
+            .saturating_add(self.shadow)
+            .saturating_add(self.reflected)
+            .saturating_add(self.refracted)
     }
-    /// Adds another tally to this one.
+    /// Adds another tally to this one (saturating).
     pub fn merge(&mut self, o: &RayStats) {
-        self.primary += o.primary;
-        self.shadow += o.shadow;
-        self.reflected += o.reflected;
-        self.refracted += o.refracted;
+        self.primary = self.primary.saturating_add(o.primary);
+        self.shadow = self.shadow.saturating_add(o.shadow);
+        self.reflected = self.reflected.saturating_add(o.reflected);
+        self.refracted = self.refracted.saturating_add(o.refracted);
     }
 }
 
@@ -206,9 +209,9 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
         while let Some(p) = stack.pop() {
             let n = p.active.count() as u64;
             match p.kind {
-                RayKind::Primary => stats.primary += n,
-                RayKind::Reflected => stats.reflected += n,
-                RayKind::Refracted => stats.refracted += n,
+                RayKind::Primary => stats.primary = stats.primary.saturating_add(n),
+                RayKind::Reflected => stats.reflected = stats.reflected.saturating_add(n),
+                RayKind::Refracted => stats.refracted = stats.refracted.saturating_add(n),
             }
             let hit = self.scene.closest_hit(&p.ray, zero, Lanes::splat(S::MAX), p.active);
             // Rays that hit nothing see the background.
@@ -268,7 +271,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
                 continue;
             }
             let trans = if shadows {
-                stats.shadow += lit.count() as u64;
+                stats.shadow = stats.shadow.saturating_add(lit.count() as u64);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
                 self.scene.transmittance(&shadow, zero, dist, lit)
             } else {
@@ -335,7 +338,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
                 ray: RayPacket { origin: surf.point - off, dir: t_dir },
                 weight: Lanes::select(refr, w_refr, zero),
                 active: refr & ok,
-                depth: p.depth + 1,
+                depth: p.depth.saturating_add(1),
                 kind: RayKind::Refracted,
             });
         }
@@ -347,7 +350,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
                 ray: RayPacket { origin: surf.point + off, dir: r_dir },
                 weight: Lanes::select(refl, w_refl, zero),
                 active: refl & ok,
-                depth: p.depth + 1,
+                depth: p.depth.saturating_add(1),
                 kind: RayKind::Reflected,
             });
         }

@@ -56,14 +56,16 @@ impl<S: Scalar> Polygon<S> {
         if count < 3 {
             return Err(GeometryError::TooFewVertices(count));
         }
-        let n_slots = if patch { count as usize * 2 } else { count as usize };
-        let all = pool
-            .get(first as usize..first as usize + n_slots)
+        // Checked: on a 32-bit target `2·count` or `first + slots` can wrap.
+        let n_slots = if patch { (count as usize).checked_mul(2) } else { Some(count as usize) };
+        let end = n_slots.and_then(|n| (first as usize).checked_add(n));
+        let all = end
+            .and_then(|end| pool.get(first as usize..end))
             .ok_or(GeometryError::VertexRange)?;
         if all.iter().any(|v| !v.is_finite()) {
             return Err(GeometryError::NonFinite);
         }
-        let verts = &all[..count as usize];
+        let verts = all.get(..count as usize).ok_or(GeometryError::VertexRange)?;
 
         // Newell's method: the normal's components are twice the signed areas
         // of the projections onto the coordinate planes. Relative to the first
@@ -147,13 +149,13 @@ impl<S: Scalar> Polygon<S> {
             let (su, sv) = (sgn(e1.0), sgn(e1.1));
             if su != 0 {
                 if last_du != 0 && su != last_du && k >= n {
-                    du_changes += 1;
+                    du_changes = du_changes.saturating_add(1);
                 }
                 last_du = su;
             }
             if sv != 0 {
                 if last_dv != 0 && sv != last_dv && k >= n {
-                    dv_changes += 1;
+                    dv_changes = dv_changes.saturating_add(1);
                 }
                 last_dv = sv;
             }
@@ -185,8 +187,8 @@ impl<S: Scalar> Polygon<S> {
     /// one the polygon was built against).
     #[inline]
     pub fn vertices<'a>(&self, pool: &'a [Vec3<S>]) -> &'a [Vec3<S>] {
-        pool.get(self.first as usize..self.first as usize + self.count as usize)
-            .unwrap_or(&[])
+        let end = (self.first as usize).checked_add(self.count as usize).unwrap_or(usize::MAX);
+        pool.get(self.first as usize..end).unwrap_or(&[])
     }
     /// The per-vertex normals of a patch (empty for a plain polygon).
     #[inline]
@@ -194,8 +196,9 @@ impl<S: Scalar> Polygon<S> {
         if !self.patch {
             return &[];
         }
-        let start = self.first as usize + self.count as usize;
-        pool.get(start..start + self.count as usize).unwrap_or(&[])
+        let start = (self.first as usize).checked_add(self.count as usize).unwrap_or(usize::MAX);
+        let end = start.checked_add(self.count as usize).unwrap_or(usize::MAX);
+        pool.get(start..end).unwrap_or(&[])
     }
 
     /// Crossing of each active ray with the polygon in `(t_min, t_max)`.

@@ -83,8 +83,8 @@ fn main() -> ! {
 
     // SAFETY: `[bottom, top)` is the painted stack region.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
-    let static_ram = bottom - addr_of!(__sdata) as usize;
-    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top - bottom, static_ram });
+    let static_ram = bottom.saturating_sub(addr_of!(__sdata) as usize);
+    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top.saturating_sub(bottom), static_ram });
     con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
     exit(ok)
 }

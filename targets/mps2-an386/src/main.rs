@@ -65,7 +65,7 @@ fn fp_control() -> (u32, u32) {
 #[entry]
 fn main() -> ! {
     let top = addr_of!(_stack_start) as usize;
-    let bottom = (addr_of!(_stack_end) as usize).max(top - STACK_WINDOW);
+    let bottom = (addr_of!(_stack_end) as usize).max(top.saturating_sub(STACK_WINDOW));
     // SAFETY: `[bottom, sp)` is unused stack: above the statics, below us.
     unsafe { stack::paint(bottom as *mut u32) };
 
@@ -99,8 +99,8 @@ fn main() -> ! {
 
     // SAFETY: `[bottom, top)` is the painted stack window.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
-    let static_ram = addr_of!(_stack_end) as usize - addr_of!(__sdata) as usize;
-    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top - bottom, static_ram });
+    let static_ram = (addr_of!(_stack_end) as usize).saturating_sub(addr_of!(__sdata) as usize);
+    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top.saturating_sub(bottom), static_ram });
     let ok = ok && ieee;
     con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
     exit(ok)

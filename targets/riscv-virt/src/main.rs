@@ -54,7 +54,7 @@ fn exit(ok: bool) -> ! {
 #[riscv_rt::entry]
 fn main() -> ! {
     let top = addr_of!(_stack_start) as usize;
-    let bottom = (addr_of!(__estack) as usize).max(top - STACK_WINDOW);
+    let bottom = (addr_of!(__estack) as usize).max(top.saturating_sub(STACK_WINDOW));
     // SAFETY: `[bottom, sp)` is unused stack: above the statics, below us.
     unsafe { stack::paint(bottom as *mut u32) };
 
@@ -80,8 +80,8 @@ fn main() -> ! {
 
     // SAFETY: `[bottom, top)` is the painted stack window.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
-    let static_ram = addr_of!(__estack) as usize - addr_of!(__sdata) as usize;
-    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top - bottom, static_ram });
+    let static_ram = (addr_of!(__estack) as usize).saturating_sub(addr_of!(__sdata) as usize);
+    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top.saturating_sub(bottom), static_ram });
     con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
     exit(ok)
 }

@@ -1,0 +1,75 @@
+//! Reading a scene file into a scene whose capacity fits it.
+//!
+//! Scenes have fixed capacities (const generics). The file is scanned first;
+//! the smallest capacity tier that holds it is chosen, and the scene is built
+//! on a thread whose stack is sized for that tier (a `Scene` is one
+//! contiguous value, megabytes for the larger tiers). Files larger than the
+//! largest tier fail with the reader's capacity error, which names the
+//! capacity and what the file needs.
+
+use crate::Failure;
+use raypack::nff::{self, NffCounts, NffInfo};
+use raypack::prelude::*;
+use std::path::Path;
+
+/// What a command does with a loaded scene.
+pub struct Loaded<'a> {
+    /// The scene.
+    pub view: SceneView<'a, f32>,
+    /// Camera, background and counts from the file.
+    pub info: NffInfo,
+    /// Zero-area polygons (kept, never hit).
+    pub degenerate: u32,
+    /// The capacity tier used: (primitives, vertices, materials, lights).
+    pub capacity: (usize, usize, usize, usize),
+}
+
+/// Reads a scene file as text, with the path in the error.
+pub fn read_text(path: &Path) -> Result<String, Failure> {
+    std::fs::read_to_string(path).map_err(|e| Failure(format!("{}: {e}", path.display())))
+}
+
+/// Whether counts fit a tier.
+fn fits(c: &NffCounts, p: usize, v: usize, m: usize, l: usize) -> bool {
+    c.primitives() <= p && c.vertices <= v && c.materials <= m && c.lights <= l
+}
+
+/// Loads into a `Scene<f32, P, V, M, L>` on a thread with room for it and
+/// runs `f` there.
+fn load_in<const P: usize, const V: usize, const M: usize, const L: usize, T: Send>(
+    path: &Path,
+    text: &str,
+    f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync),
+) -> Result<T, Failure> {
+    // Twice the scene: an unoptimized build may build it in a temporary first.
+    let stack = 2 * std::mem::size_of::<Scene<f32, P, V, M, L>>() + (32 << 20);
+    std::thread::scope(|s| {
+        let worker = std::thread::Builder::new()
+            .name("raypack-scene".into())
+            .stack_size(stack)
+            .spawn_scoped(s, || {
+                let mut scene = Scene::<f32, P, V, M, L>::new();
+                let info = nff::parse(text, &mut scene).map_err(|e| Failure(format!("{}: {e}", path.display())))?;
+                f(Loaded { view: scene.view(), info, degenerate: scene.degenerate_polygons(), capacity: (P, V, M, L) })
+            })
+            .map_err(|e| Failure(format!("cannot start a thread for the scene: {e}")))?;
+        worker.join().unwrap_or_else(|p| std::panic::resume_unwind(p))
+    })
+}
+
+/// Reads `path` into the smallest capacity tier that holds it and runs `f`
+/// on the scene.
+pub fn with_scene<T: Send>(path: &Path, f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync)) -> Result<T, Failure> {
+    let text = read_text(path)?;
+    let counts = nff::scan(&text).map_err(|e| Failure(format!("{}: {e}", path.display())))?.counts;
+    if fits(&counts, 1 << 10, 1 << 13, 256, 64) {
+        load_in::<{ 1 << 10 }, { 1 << 13 }, 256, 64, T>(path, &text, f)
+    } else if fits(&counts, 1 << 14, 1 << 17, 1024, 256) {
+        load_in::<{ 1 << 14 }, { 1 << 17 }, 1024, 256, T>(path, &text, f)
+    } else if fits(&counts, 1 << 18, 1 << 21, 16384, 4096) {
+        load_in::<{ 1 << 18 }, { 1 << 21 }, 16384, 4096, T>(path, &text, f)
+    } else {
+        // The largest tier; beyond it the reader reports the capacity error.
+        load_in::<{ 1 << 20 }, { 1 << 23 }, 65536, 16384, T>(path, &text, f)
+    }
+}

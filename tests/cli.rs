@@ -1,0 +1,180 @@
+//! The `raypack` binary, run as a user would: images, byte-identical output
+//! for any thread count and packet width, exit codes, one-line errors with
+//! line numbers, and no partial files.
+#![cfg(feature = "cli")]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn raypack(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raypack")).args(args).output().expect("run raypack")
+}
+
+fn scene(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes").join(name).to_string_lossy().into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn files_in(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    v.sort();
+    v
+}
+
+/// Renders `scene` with extra arguments into `dir/name` and returns the bytes.
+fn render(dir: &Path, name: &str, scene_file: &str, extra: &[&str]) -> Vec<u8> {
+    let out = dir.join(name);
+    let out_s = out.to_string_lossy().into_owned();
+    let mut args = vec!["render", scene_file, "-o", &out_s, "--quiet"];
+    args.extend_from_slice(extra);
+    let o = raypack(&args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    assert!(o.stderr.is_empty(), "--quiet printed {}", stderr(&o));
+    std::fs::read(&out).unwrap()
+}
+
+#[test]
+fn ppm_header_and_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes = render(dir.path(), "balls.ppm", &scene("balls-1.nff"), &["--width", "40", "--height", "30"]);
+    let header = b"P6\n40 30\n255\n";
+    assert_eq!(&bytes[..header.len()], header);
+    assert_eq!(bytes.len(), header.len() + 40 * 30 * 3);
+    // Not a blank image: the background and the balls differ.
+    let px = &bytes[header.len()..];
+    assert!(px.chunks(3).any(|p| p != &px[..3]));
+}
+
+#[test]
+fn png_holds_the_same_pixels_as_ppm() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["--width", "24", "--height", "20"];
+    let ppm = render(dir.path(), "a.ppm", &scene("extensions.nff"), &args);
+    let png_bytes = render(dir.path(), "a.PNG", &scene("extensions.nff"), &args);
+    let decoder = png::Decoder::new(std::io::Cursor::new(png_bytes));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let frame = reader.next_frame(&mut buf).unwrap();
+    assert_eq!((frame.width, frame.height, frame.color_type), (24, 20, png::ColorType::Rgb));
+    assert_eq!(&buf[..frame.buffer_size()], &ppm[b"P6\n24 20\n255\n".len()..]);
+}
+
+#[test]
+fn same_bytes_for_every_thread_count_and_packet_width() {
+    let dir = tempfile::tempdir().unwrap();
+    // Mirror, glass, every primitive kind; and patches with zero-area polygons.
+    for (file, size) in [("extensions.nff", ["--width", "72", "--height", "54"]), ("teapot-1.nff", ["--width", "48", "--height", "40"])] {
+        let mut reference: Option<Vec<u8>> = None;
+        for (threads, packet) in [("1", "1"), ("2", "4"), ("4", "8"), ("1", "8"), ("4", "1"), ("2", "1")] {
+            let mut args = size.to_vec();
+            args.extend_from_slice(&["--threads", threads, "--packet", packet]);
+            let bytes = render(dir.path(), &format!("{threads}-{packet}.ppm"), &scene(file), &args);
+            match &reference {
+                None => reference = Some(bytes),
+                Some(r) => assert!(r == &bytes, "{file}: threads {threads}, packet {packet} differ"),
+            }
+        }
+    }
+}
+
+#[test]
+fn aovs_differ_and_ids_are_file_order_plus_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["--width", "32", "--height", "24"];
+    let header = b"P6\n32 24\n255\n".len();
+    let mut images = Vec::new();
+    for aov in ["color", "depth", "normal", "id"] {
+        let mut a = args.to_vec();
+        a.extend_from_slice(&["--aov", aov]);
+        images.push(render(dir.path(), &format!("{aov}.ppm"), &scene("balls-1.nff"), &a));
+    }
+    for i in 0..4 {
+        for j in i + 1..4 {
+            assert_ne!(images[i], images[j]);
+        }
+    }
+    // balls-1: 11 primitives (a floor polygon, ten spheres): ids 1 to 11 or 0.
+    let ids: Vec<u32> = images[3][header..].chunks(3).map(|p| (p[0] as u32) << 16 | (p[1] as u32) << 8 | p[2] as u32).collect();
+    assert!(ids.iter().all(|&k| k <= 11));
+    assert!(ids.contains(&1) && ids.contains(&2));
+}
+
+#[test]
+fn bad_scene_is_one_line_with_the_line_number_and_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.nff");
+    std::fs::write(&bad, "f 1 1 1 1 0 0 0 1\ns 0 0 0 1\ns 0 0 O 1\n").unwrap();
+    let out = dir.path().join("out.ppm");
+    let o = raypack(&["render", bad.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with("raypack: error: ") && err.contains("bad.nff: line 3, column 7: expected a number, found `O`"), "{err}");
+    assert!(!out.exists());
+    assert_eq!(files_in(dir.path()), [bad.clone()], "temporary files left behind");
+
+    // An existing image is not touched by a failed render.
+    std::fs::write(&out, b"old").unwrap();
+    let o = raypack(&["render", bad.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(std::fs::read(&out).unwrap(), b"old");
+
+    // `info` reports the same error.
+    let o = raypack(&["info", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("line 3, column 7"), "{}", stderr(&o));
+}
+
+#[test]
+fn scene_without_camera_missing_file_bad_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let no_cam = dir.path().join("nocam.nff");
+    std::fs::write(&no_cam, "f 1 1 1 1 0 0 0 1\ns 0 0 0 1\n").unwrap();
+    let out = dir.path().join("x.ppm");
+    let out = out.to_str().unwrap();
+    let one_line_error = |o: &Output, needle: &str| {
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(o));
+        let e = stderr(o);
+        assert_eq!(e.lines().count(), 1, "{e}");
+        assert!(e.contains(needle), "{e:?} lacks {needle:?}");
+    };
+    one_line_error(&raypack(&["render", no_cam.to_str().unwrap(), "-o", out]), "no `v` block");
+    one_line_error(&raypack(&["render", "/nonexistent/scene.nff", "-o", out]), "/nonexistent/scene.nff");
+    let balls = scene("balls-1.nff");
+    one_line_error(&raypack(&["render", &balls, "-o", "/nonexistent/dir/x.ppm"]), "/nonexistent/dir/x.ppm");
+    one_line_error(&raypack(&["render", &balls, "-o", dir.path().join("x.jpg").to_str().unwrap()]), "use a .ppm or .png");
+    assert_eq!(files_in(dir.path()), [no_cam]);
+}
+
+#[test]
+fn usage_errors_exit_with_2() {
+    assert_eq!(raypack(&["render", &scene("balls-1.nff")]).status.code(), Some(2)); // no -o
+    assert_eq!(raypack(&["render", &scene("balls-1.nff"), "-o", "x.ppm", "--packet", "3"]).status.code(), Some(2));
+    assert_eq!(raypack(&["render", &scene("balls-1.nff"), "-o", "x.ppm", "--threads", "0"]).status.code(), Some(2));
+    assert_eq!(raypack(&["frobnicate"]).status.code(), Some(2));
+    assert!(raypack(&["--help"]).status.success());
+}
+
+#[test]
+fn info_lists_counts_and_camera() {
+    let o = raypack(&["info", &scene("teapot-1.nff")]);
+    assert!(o.status.success());
+    let s = String::from_utf8_lossy(&o.stdout);
+    for needle in ["primitives  57", "patches (pp)          56", "zero-area polygons    4", "lights      2", "resolution 512x512", "bounds"] {
+        assert!(s.contains(needle), "{s} lacks {needle}");
+    }
+}
+
+#[test]
+fn summary_and_warning_without_quiet() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t.ppm");
+    let o = raypack(&["render", &scene("teapot-1.nff"), "-o", out.to_str().unwrap(), "--width", "16", "--height", "16"]);
+    assert!(o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("warning") && e.contains("4 zero-area polygons"), "{e}");
+    assert!(e.contains("16x16") && e.contains("256 primary") && e.contains("rays/s"), "{e}");
+}
