@@ -466,7 +466,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
         self.background
     }
     /// The material of primitive `prim`.
-    #[inline]
+    #[inline(always)]
     pub fn material_of(&self, prim: u32) -> Material<S> {
         self.prims
             .get(prim as usize)
@@ -490,7 +490,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
     ///
     /// Ties (two primitives at exactly the same distance) go to the lower
     /// primitive index, whatever the packet width.
-    #[inline]
+    #[inline(always)]
     pub fn closest_hit<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
@@ -526,7 +526,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
     /// `(t_min, t_max)`: every surface crossed multiplies it by the crossed
     /// object's `Kt` (an opaque object stops it; a glass sphere gives `Kt²`).
     /// Inactive lanes return 0.
-    #[inline]
+    #[inline(always)]
     pub fn transmittance<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
