@@ -28,6 +28,9 @@ pub enum CameraError {
     FieldOfView,
     /// The image has no pixels, or more than 65 535 in a dimension.
     ImageSize,
+    /// The eye or look-at point is beyond the scalar type's coordinate
+    /// limit (fixed point; see [`crate::range`]).
+    OutOfRange,
 }
 
 impl core::fmt::Display for CameraError {
@@ -38,6 +41,7 @@ impl core::fmt::Display for CameraError {
             CameraError::UpParallel => "the up vector is zero or parallel to the view direction",
             CameraError::FieldOfView => "the field of view must be between 0 and 180 degrees",
             CameraError::ImageSize => "the image size must be between 1 and 65535 pixels per side",
+            CameraError::OutOfRange => "the camera's eye or look-at point is beyond the fixed-point coordinate limit",
         })
     }
 }
@@ -98,6 +102,11 @@ impl<S: Scalar> Camera<S> {
         }
         if !(vfov_deg > 0.0 && vfov_deg < 180.0) {
             return Err(CameraError::FieldOfView);
+        }
+        if crate::range::check_point(eye, crate::range::RangeItem::Camera).is_err()
+            || crate::range::check_point(look_at, crate::range::RangeItem::Camera).is_err()
+        {
+            return Err(CameraError::OutOfRange);
         }
         let forward = (look_at - eye).normalize_or_zero();
         if forward == Vec3::ZERO {

@@ -19,6 +19,15 @@ fn v<S: Scalar>(x: f32, y: f32, z: f32) -> Vec3<S> {
 /// sphere, an ellipsoid quadric, a clipped cylinder quadric and a finite cone.
 pub fn demo_scene<S: Scalar>() -> Result<DemoScene<S>, SceneError> {
     let mut s = DemoScene::<S>::new();
+    build_demo_scene(&mut s)?;
+    Ok(s)
+}
+
+/// Adds the demo scene's background, materials, primitives and lights to
+/// `s` (normally empty; see [`demo_scene`]) where it lies, so a caller with
+/// little stack (a microcontroller) can build it in a `static` without the
+/// scene ever being copied. Fails only if `s` lacks room.
+pub fn build_demo_scene<S: Scalar>(s: &mut DemoScene<S>) -> Result<(), SceneError> {
     s.set_background(v(0.08, 0.12, 0.25))?;
     let f = S::from_f32;
     let mat = |r: f32, g: f32, b: f32, ka: f32, kd: f32, ks: f32, shine: f32, kr: f32, kt: f32, ior: f32| Material {
@@ -62,7 +71,7 @@ pub fn demo_scene<S: Scalar>() -> Result<DemoScene<S>, SceneError> {
     s.add_cone(v(3.0, 0.6, 0.0), f(0.4), v(3.0, 0.6, 1.2), f(0.05), red)?;
     s.add_light(v(-3.0, -4.0, 6.0), v(0.7, 0.7, 0.7))?;
     s.add_light(v(4.0, -2.0, 3.0), v(0.4, 0.4, 0.45))?;
-    Ok(s)
+    Ok(())
 }
 
 /// The demo scene's camera, for a `width × height` image.

@@ -27,10 +27,15 @@
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
+pub mod bvh;
 pub mod camera;
 pub mod demo;
+pub mod fixed;
 pub mod lanes;
+pub mod nff;
+pub mod output;
 pub mod primitives;
+pub mod range;
 pub mod ray;
 pub mod render;
 pub mod scalar;
@@ -42,11 +47,15 @@ pub mod vec3;
 #[cfg(feature = "std")]
 pub mod dispatch;
 
+pub use fixed::Fixed;
 pub use scalar::Scalar;
 
 /// The types most programs need.
 pub mod prelude {
+    pub use crate::bvh::{BuildSettings, Bvh, BvhError, BvhStats};
     pub use crate::camera::{Camera, CameraError, Rect};
+    pub use crate::fixed::Fixed;
+    pub use crate::range::{check_scene, RangeError, RangeItem};
     pub use crate::lanes::{Lanes, Mask};
     pub use crate::primitives::{Quadric, Shape, ShapeKind};
     pub use crate::ray::{Ray, RayPacket};

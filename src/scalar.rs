@@ -55,6 +55,14 @@ pub trait Scalar:
     const RAY_EPSILON: Self;
     /// Weights below this end a path (the "minimum contribution" cut-off).
     const MIN_WEIGHT: Self;
+    /// Whether the type's range is small enough that scenes must be checked
+    /// against [`Scalar::COORDINATE_LIMIT`] (fixed point); `false` for `f32`.
+    const LIMITED_RANGE: bool = false;
+    /// The largest coordinate magnitude a scene may use with this type, so
+    /// that the tracer's largest intermediates (squared distances between
+    /// scene points) stay representable; see [`crate::range`]. Unlimited
+    /// (`f32::MAX`) for `f32`.
+    const COORDINATE_LIMIT: f32 = f32::MAX;
 
     /// Converts from `f32` (set-up time only: scene input, camera angles).
     /// Out-of-range values saturate; NaN becomes zero.

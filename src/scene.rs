@@ -5,8 +5,10 @@
 //! on a [`SceneView`] of slices, so the tracer is not monomorphized per
 //! capacity and a scene can also be assembled from static slices.
 
+use crate::bvh::{Bvh, BvhError, BvhView};
 use crate::lanes::{Lanes, Mask};
 use crate::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Polygon, Quadric, Shape, ShapeKind, Sphere};
+use crate::range::{self, RangeError, RangeItem};
 use crate::ray::RayPacket;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -149,6 +151,9 @@ pub enum SceneError {
     UnknownMaterial(u16),
     /// A material parameter is out of range.
     InvalidMaterial(&'static str),
+    /// A coordinate is beyond what the scalar type represents safely
+    /// (fixed point; see [`crate::range`]).
+    OutOfRange(RangeError),
 }
 
 impl From<GeometryError> for SceneError {
@@ -156,6 +161,12 @@ impl From<GeometryError> for SceneError {
         SceneError::Geometry(e)
     }
 }
+impl From<RangeError> for SceneError {
+    fn from(e: RangeError) -> Self {
+        SceneError::OutOfRange(e)
+    }
+}
+
 impl From<CapacityError> for SceneError {
     fn from(e: CapacityError) -> Self {
         SceneError::Capacity(e)
@@ -169,6 +180,7 @@ impl core::fmt::Display for SceneError {
             SceneError::Geometry(g) => g.fmt(f),
             SceneError::UnknownMaterial(m) => write!(f, "unknown material {m}"),
             SceneError::InvalidMaterial(why) => write!(f, "invalid material: {why}"),
+            SceneError::OutOfRange(r) => r.fmt(f),
         }
     }
 }
@@ -236,6 +248,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             return Err(GeometryError::NonFinite.into());
         }
         let n = self.lights.len();
+        range::check_point(position, RangeItem::Light(n as u32))?;
         self.lights
             .push(Light { position, color })
             .map_err(|_| full(CapacityKind::Lights, L, n + 1))
@@ -248,6 +261,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             return Err(SceneError::UnknownMaterial(material));
         }
         let id = self.prims.len();
+        range::check_shape(&shape, &self.verts, id as u32)?;
         self.prims
             .push(Primitive { shape, material })
             .map_err(|_| full(CapacityKind::Primitives, P, id + 1))?;
@@ -386,6 +400,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             materials: &self.materials,
             lights: &self.lights,
             background: self.background,
+            bvh: None,
         }
     }
 }
@@ -409,6 +424,8 @@ pub struct SceneView<'a, S> {
     materials: &'a [Material<S>],
     lights: &'a [Light<S>],
     background: Vec3<S>,
+    /// The acceleration tree, if one was attached ([`SceneView::with_bvh`]).
+    bvh: Option<BvhView<'a, S>>,
 }
 
 /// The material used where a primitive names a material the view lacks
@@ -442,7 +459,28 @@ impl<'a, S: Scalar> SceneView<'a, S> {
         for m in materials {
             m.validate()?;
         }
-        Ok(SceneView { prims, verts, materials, lights, background })
+        Ok(SceneView { prims, verts, materials, lights, background, bvh: None })
+    }
+
+    /// The same view, with queries going through `bvh` (which must have been
+    /// built for this scene: a different primitive count is an error).
+    /// Results are bit-identical to the brute-force loops.
+    pub fn with_bvh<const N: usize>(self, bvh: &'a Bvh<S, N>) -> Result<Self, BvhError> {
+        let tree = bvh.view();
+        if tree.primitive_count() != self.prims.len() {
+            return Err(BvhError::SceneMismatch { built_for: tree.primitive_count(), view_has: self.prims.len() });
+        }
+        Ok(SceneView { bvh: Some(tree), ..self })
+    }
+
+    /// The same view without a tree: every query tests every primitive.
+    pub fn without_bvh(self) -> Self {
+        SceneView { bvh: None, ..self }
+    }
+
+    /// The attached tree, if any.
+    pub fn bvh(&self) -> Option<BvhView<'a, S>> {
+        self.bvh
     }
 
     /// The primitives, in index order.
@@ -489,9 +527,26 @@ impl<'a, S: Scalar> SceneView<'a, S> {
     /// The nearest hit of each active ray in `(t_min, t_max)`.
     ///
     /// Ties (two primitives at exactly the same distance) go to the lower
-    /// primitive index, whatever the packet width.
+    /// primitive index, whatever the packet width. Goes through the BVH when
+    /// one is attached; the result is the same bits either way.
     #[inline(always)]
     pub fn closest_hit<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Hit<S, W> {
+        match &self.bvh {
+            Some(tree) => tree.closest_hit(self, ray, t_min, t_max, active),
+            None => self.closest_hit_brute_force(ray, t_min, t_max, active),
+        }
+    }
+
+    /// [`SceneView::closest_hit`] testing every primitive in index order
+    /// (the reference the BVH must match).
+    #[inline(always)]
+    pub fn closest_hit_brute_force<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
         t_min: Lanes<S, W>,
@@ -525,9 +580,26 @@ impl<'a, S: Scalar> SceneView<'a, S> {
     /// Fraction of light that reaches the end of each active ray segment
     /// `(t_min, t_max)`: every surface crossed multiplies it by the crossed
     /// object's `Kt` (an opaque object stops it; a glass sphere gives `Kt²`).
-    /// Inactive lanes return 0.
+    /// Inactive lanes return 0. Goes through the BVH when one is attached;
+    /// the result is the same bits either way.
     #[inline(always)]
     pub fn transmittance<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Lanes<S, W> {
+        match &self.bvh {
+            Some(tree) => tree.transmittance(self, ray, t_min, t_max, active),
+            None => self.transmittance_brute_force(ray, t_min, t_max, active),
+        }
+    }
+
+    /// [`SceneView::transmittance`] testing every primitive in index order
+    /// (the reference the BVH must match).
+    #[inline(always)]
+    pub fn transmittance_brute_force<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
         t_min: Lanes<S, W>,

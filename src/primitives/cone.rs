@@ -56,6 +56,11 @@ impl<S: Scalar> Cone<S> {
         })
     }
 
+    /// Change of radius per unit of height, `(r_apex − r_base)/h`.
+    pub fn slope(&self) -> S {
+        self.slope
+    }
+
     /// `(base, base radius, apex, apex radius)`.
     pub fn ends(&self) -> (Vec3<S>, S, Vec3<S>, S) {
         (self.base, self.base_radius, self.apex, self.apex_radius)

@@ -37,16 +37,32 @@ impl Rng {
     }
 }
 
-pub type TestScene = Scene<f32, 48, 512, 16, 4>;
+/// The random test scenes' capacities, for any scalar.
+pub type TestSceneOf<S> = Scene<S, 48, 512, 16, 4>;
+pub type TestScene = TestSceneOf<f32>;
+
+/// An `f32` vector (what the generator draws) converted to the scalar `S`
+/// (the identity for `f32`).
+pub fn cv<S: Scalar>(v: Vec3<f32>) -> Vec3<S> {
+    Vec3::from_f32(v.x, v.y, v.z)
+}
 
 /// A random primitive of kind `k` (0..=8, see the match).
 pub fn random_shape(rng: &mut Rng, scene: &mut TestScene, k: u32, mat: u16) {
+    random_shape_in::<f32>(rng, scene, k, mat)
+}
+
+/// [`random_shape`] for any scalar: the same draws from `rng`, computed in
+/// `f32` and converted where they enter the scene, so the `f32` scene is
+/// bit-identical to the one [`random_shape`] always built.
+pub fn random_shape_in<S: Scalar>(rng: &mut Rng, scene: &mut TestSceneOf<S>, k: u32, mat: u16) {
     let c = rng.vec(-3.0, 3.0);
+    let f = S::from_f32;
     let r = match k {
-        0 => scene.add_shape(Shape::Sphere(Sphere::new(c, rng.range(0.2, 1.5)).unwrap()), mat),
+        0 => scene.add_shape(Shape::Sphere(Sphere::new(cv(c), f(rng.range(0.2, 1.5))).unwrap()), mat),
         1 => {
             let n = rng.unit();
-            scene.add_shape(Shape::Plane(Plane::from_point_normal(c.scale(2.0), n).unwrap()), mat)
+            scene.add_shape(Shape::Plane(Plane::from_point_normal(cv(c.scale(2.0)), cv(n)).unwrap()), mat)
         }
         2 | 3 => {
             // A polygon in a random plane: convex (regular) or star-shaped (random radii).
@@ -62,41 +78,43 @@ pub fn random_shape(rng: &mut Rng, scene: &mut TestScene, k: u32, mat: u16) {
                     c + u.scale(rad * a.cos()) + v.scale(rad * a.sin())
                 })
                 .collect();
+            let verts_s: Vec<Vec3<S>> = verts.iter().map(|&v| cv(v)).collect();
             if rng.below(2) == 0 {
-                scene.add_polygon(&verts, mat)
+                scene.add_polygon(&verts_s, mat)
             } else {
-                let normals: Vec<Vec3<f32>> = verts.iter().map(|_| (n + rng.vec(-0.3, 0.3)).normalize_or_zero()).collect();
-                scene.add_patch(&verts, &normals, mat)
+                let normals: Vec<Vec3<S>> = verts.iter().map(|_| cv((n + rng.vec(-0.3, 0.3)).normalize_or_zero())).collect();
+                scene.add_patch(&verts_s, &normals, mat)
             }
         }
-        4 => scene.add_shape(Shape::AaBox(AaBox::new(c, c + rng.vec(0.2, 2.0)).unwrap()), mat),
+        4 => scene.add_shape(Shape::AaBox(AaBox::new(cv(c), cv(c + rng.vec(0.2, 2.0))).unwrap()), mat),
         5 => {
             let u = rng.unit();
             let v = rng.unit();
-            match OrientedBox::new(c, rng.vec(0.2, 1.0), u, v) {
+            match OrientedBox::new(cv(c), cv(rng.vec(0.2, 1.0)), cv(u), cv(v)) {
                 Ok(b) => scene.add_shape(Shape::OrientedBox(b), mat),
                 Err(_) => return,
             }
         }
         6 => {
             let axis = rng.unit();
+            let (cs, axs) = (cv::<S>(c), cv::<S>(axis));
             let q = match rng.below(6) {
-                0 => Quadric::ellipsoid(c, rng.vec(0.3, 1.5)),
-                1 => Quadric::cylinder(c, axis, rng.range(0.2, 1.0)),
-                2 => Quadric::cone(c, axis, rng.range(0.2, 1.0)),
-                3 => Quadric::paraboloid(c, axis, rng.range(0.1, 1.0)),
-                4 => Quadric::hyperboloid_one_sheet(c, axis, rng.range(0.2, 1.0), rng.range(0.3, 1.5)),
-                _ => Quadric::hyperboloid_two_sheets(c, axis, rng.range(0.2, 1.0), rng.range(0.3, 1.5)),
+                0 => Quadric::ellipsoid(cs, cv(rng.vec(0.3, 1.5))),
+                1 => Quadric::cylinder(cs, axs, f(rng.range(0.2, 1.0))),
+                2 => Quadric::cone(cs, axs, rng.range(0.2, 1.0)),
+                3 => Quadric::paraboloid(cs, axs, f(rng.range(0.1, 1.0))),
+                4 => Quadric::hyperboloid_one_sheet(cs, axs, f(rng.range(0.2, 1.0)), f(rng.range(0.3, 1.5))),
+                _ => Quadric::hyperboloid_two_sheets(cs, axs, f(rng.range(0.2, 1.0)), f(rng.range(0.3, 1.5))),
             }
             .unwrap();
-            let q = if rng.below(2) == 0 { q.with_clip(c - rng.vec(0.5, 2.0), c + rng.vec(0.5, 2.0)).unwrap() } else { q };
+            let q = if rng.below(2) == 0 { q.with_clip(cv(c - rng.vec(0.5, 2.0)), cv(c + rng.vec(0.5, 2.0))).unwrap() } else { q };
             scene.add_shape(Shape::Quadric(q), mat)
         }
         _ => {
             let apex = c + rng.unit().scale(rng.range(0.5, 2.5));
             let rb = rng.range(0.0, 1.0);
             let ra = if rng.below(3) == 0 { rb } else { rng.range(0.0, 1.0) };
-            match Cone::new(c, rb + 0.05, apex, ra) {
+            match Cone::new(cv(c), f(rb + 0.05), cv(apex), f(ra)) {
                 Ok(cn) => scene.add_shape(Shape::Cone(cn), mat),
                 Err(_) => return,
             }
@@ -105,44 +123,85 @@ pub fn random_shape(rng: &mut Rng, scene: &mut TestScene, k: u32, mat: u16) {
     r.unwrap();
 }
 
+/// Peak signal-to-noise ratio of `b` against `a` over all 8-bit channel
+/// samples, in dB: `10·log₁₀(255²/MSE)`; infinite for identical images.
+pub fn psnr(a: &[Rgb8], b: &[Rgb8]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let mut se = 0.0f64;
+    for (p, q) in a.iter().zip(b) {
+        for c in 0..3 {
+            let d = p[c] as f64 - q[c] as f64;
+            se += d * d;
+        }
+    }
+    let mse = se / (3 * a.len()) as f64;
+    if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (255.0 * 255.0 / mse).log10()
+    }
+}
+
+/// Fraction of pixels whose (ID AOV) values agree.
+pub fn agreement(a: &[Rgb8], b: &[Rgb8]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).filter(|(p, q)| p == q).count() as f64 / a.len() as f64
+}
+
 /// A random scene of `n` primitives of every kind, with random materials
 /// (some mirrors, some glass) and lights.
 pub fn random_scene(rng: &mut Rng, n: usize) -> TestScene {
-    let mut s = TestScene::new();
-    s.set_background(rng.vec(0.0, 0.5)).unwrap();
+    random_scene_in::<f32>(rng, n)
+}
+
+/// [`random_scene`] for any scalar (the same draws; see [`random_shape_in`]).
+pub fn random_scene_in<S: Scalar>(rng: &mut Rng, n: usize) -> TestSceneOf<S> {
+    let mut s = TestSceneOf::<S>::new();
+    let f = S::from_f32;
+    s.set_background(cv(rng.vec(0.0, 0.5))).unwrap();
     for _ in 0..6 {
         let m = Material {
-            color: rng.vec(0.1, 1.0),
-            ka: rng.range(0.0, 0.2),
-            kd: rng.range(0.2, 0.9),
-            ks: rng.range(0.0, 0.8),
-            shine: rng.range(1.0, 100.0),
-            kr: if rng.below(3) == 0 { rng.range(0.2, 0.9) } else { 0.0 },
-            kt: if rng.below(3) == 0 { rng.range(0.2, 0.9) } else { 0.0 },
-            ior: rng.range(1.0, 2.0),
+            color: cv(rng.vec(0.1, 1.0)),
+            ka: f(rng.range(0.0, 0.2)),
+            kd: f(rng.range(0.2, 0.9)),
+            ks: f(rng.range(0.0, 0.8)),
+            shine: f(rng.range(1.0, 100.0)),
+            kr: f(if rng.below(3) == 0 { rng.range(0.2, 0.9) } else { 0.0 }),
+            kt: f(if rng.below(3) == 0 { rng.range(0.2, 0.9) } else { 0.0 }),
+            ior: f(rng.range(1.0, 2.0)),
         };
         s.add_material(m).unwrap();
     }
     for i in 0..n {
         let k = (i as u32) % 9;
         let mat = rng.below(6) as u16;
-        random_shape(rng, &mut s, k, mat);
+        random_shape_in(rng, &mut s, k, mat);
     }
     for _ in 0..1 + rng.below(3) {
-        s.add_light(rng.vec(-8.0, 8.0), rng.vec(0.2, 1.0)).unwrap();
+        s.add_light(cv(rng.vec(-8.0, 8.0)), cv(rng.vec(0.2, 1.0))).unwrap();
     }
     s
 }
 
 /// A camera looking at the origin from a random direction.
 pub fn random_camera(rng: &mut Rng, w: u32, h: u32) -> Camera<f32> {
+    random_camera_in::<f32>(rng, w, h)
+}
+
+/// [`random_camera`] for any scalar (the same draws).
+pub fn random_camera_in<S: Scalar>(rng: &mut Rng, w: u32, h: u32) -> Camera<S> {
     let eye = rng.unit().scale(rng.range(8.0, 14.0));
-    Camera::new(eye, rng.vec(-0.5, 0.5), Vec3::new(0.0, 0.0, 1.0), rng.range(30.0, 70.0), w, h).unwrap()
+    Camera::new(cv(eye), cv(rng.vec(-0.5, 0.5)), cv(Vec3::new(0.0, 0.0, 1.0)), rng.range(30.0, 70.0), w, h).unwrap()
 }
 
 /// Renders a whole image with packet width `W`, tile by tile.
 pub fn render<const W: usize>(scene: &SceneView<'_, f32>, camera: Camera<f32>, settings: TraceSettings<f32>, aov: Aov, tile: u32) -> (Vec<Rgb8>, RayStats) {
-    let tracer: Tracer<f32> = Tracer::new(*scene, settings).unwrap();
+    render_in::<f32, W>(scene, camera, settings, aov, tile)
+}
+
+/// [`render`] for any scalar.
+pub fn render_in<S: Scalar, const W: usize>(scene: &SceneView<'_, S>, camera: Camera<S>, settings: TraceSettings<S>, aov: Aov, tile: u32) -> (Vec<Rgb8>, RayStats) {
+    let tracer: Tracer<S> = Tracer::new(*scene, settings).unwrap();
     let renderer = Renderer { tracer, camera, aov };
     let (w, h) = (camera.width(), camera.height());
     let mut img = vec![[0u8; 3]; (w * h) as usize];

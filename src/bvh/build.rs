@@ -1,0 +1,295 @@
+//! Binned SAH build, in place, without allocation or recursion.
+//!
+//! All build arithmetic is `f32` whatever the scene's scalar, done in a fixed
+//! order, so every target builds the same tree. Ties in cost go to the lower
+//! axis and then the lower bin; leaves list their primitives in index order.
+
+use super::{BvhNode, BvhStats, MAX_DEPTH};
+use crate::scalar::Scalar;
+use crate::scene::SceneView;
+use crate::vec3::Vec3;
+
+/// Most bins a build may use per axis.
+pub const MAX_BINS: usize = 32;
+
+/// Knobs of the SAH build.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildSettings {
+    /// Bins per axis for the SAH sweep (clamped to `2..=32`).
+    pub bins: u32,
+    /// Largest leaf the build accepts when a split does not pay; bigger
+    /// ranges are always split while a split exists.
+    pub max_leaf: u32,
+    /// Cost of visiting one node (box test for the packet), relative to
+    /// `intersection_cost`.
+    pub traversal_cost: f32,
+    /// Cost of one primitive test.
+    pub intersection_cost: f32,
+    /// Largest distance from the world origin at which rays start (for
+    /// example the camera's eye); widens the box padding when rays start far
+    /// outside the scene. 0 means "within the scene".
+    pub reach: f32,
+    /// Deepest leaf (root = 0); clamped to [`MAX_DEPTH`], which bounds the
+    /// traversal stack. A range at this depth becomes a leaf whatever its size.
+    pub max_depth: u32,
+}
+
+impl Default for BuildSettings {
+    fn default() -> Self {
+        BuildSettings { bins: 16, max_leaf: 4, traversal_cost: 1.0, intersection_cost: 1.0, reach: 0.0, max_depth: MAX_DEPTH as u32 }
+    }
+}
+
+/// An `f32` box `[min, max]` per axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Aabb {
+    pub min: [f32; 3],
+    pub max: [f32; 3],
+}
+
+impl Aabb {
+    pub const EMPTY: Aabb = Aabb { min: [f32::INFINITY; 3], max: [f32::NEG_INFINITY; 3] };
+
+    fn grow(&mut self, o: &Aabb) {
+        for a in 0..3 {
+            if o.min[a] < self.min[a] {
+                self.min[a] = o.min[a];
+            }
+            if o.max[a] > self.max[a] {
+                self.max[a] = o.max[a];
+            }
+        }
+    }
+    fn grow_point(&mut self, p: [f32; 3]) {
+        self.grow(&Aabb { min: p, max: p });
+    }
+    /// Half the surface area (the SAH only compares ratios), in this order.
+    fn half_area(&self) -> f32 {
+        let dx = self.max[0] - self.min[0];
+        let dy = self.max[1] - self.min[1];
+        let dz = self.max[2] - self.min[2];
+        if !(dx >= 0.0 && dy >= 0.0 && dz >= 0.0) {
+            return 0.0;
+        }
+        dx * dy + dy * dz + dz * dx
+    }
+    fn centroid(&self) -> [f32; 3] {
+        [
+            (self.min[0] + self.max[0]) * 0.5,
+            (self.min[1] + self.max[1]) * 0.5,
+            (self.min[2] + self.max[2]) * 0.5,
+        ]
+    }
+}
+
+/// The unpadded `f32` bounds of primitive `id`, or `None` when it is
+/// unbounded (or its bounds are not finite numbers).
+fn raw_bounds<S: Scalar>(scene: &SceneView<'_, S>, id: u32) -> Option<Aabb> {
+    let p = scene.primitives().get(id as usize)?;
+    let (lo, hi) = p.shape.bounds(scene.vertices())?;
+    let b = Aabb { min: lo.to_f32(), max: hi.to_f32() };
+    let finite = b.min.iter().chain(b.max.iter()).all(|v| v.is_finite());
+    if finite && b.min[0] <= b.max[0] && b.min[1] <= b.max[1] && b.min[2] <= b.max[2] {
+        Some(b)
+    } else {
+        None
+    }
+}
+
+/// The padded box of a bounded primitive (see the module documentation).
+fn padded_bounds<S: Scalar>(scene: &SceneView<'_, S>, id: u32, pad: f32) -> Aabb {
+    match raw_bounds(scene, id) {
+        Some(b) => Aabb {
+            min: [b.min[0] - pad, b.min[1] - pad, b.min[2] - pad],
+            max: [b.max[0] + pad, b.max[1] + pad, b.max[2] + pad],
+        },
+        // Not reached for entries of the bounded part of `order`.
+        None => Aabb { min: [f32::MIN; 3], max: [f32::MAX; 3] },
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Bin {
+    bounds: Aabb,
+    count: u32,
+}
+
+/// A range of `order` waiting to become the node at flat index `node`.
+#[derive(Clone, Copy, Default)]
+struct Task {
+    node: u32,
+    begin: u32,
+    end: u32,
+    depth: u32,
+}
+
+/// The bin of centroid coordinate `c`: `floor((c − lo)·k)`, clamped.
+#[inline]
+fn bin_of(c: f32, lo: f32, k: f32, bins: usize) -> usize {
+    let x = (c - lo) * k;
+    // `as` floors non-negative values and saturates (NaN → 0).
+    let i = if x > 0.0 { x as usize } else { 0 };
+    if i >= bins {
+        bins - 1
+    } else {
+        i
+    }
+}
+
+fn box_to_node<S: Scalar>(b: &Aabb) -> (Vec3<S>, Vec3<S>) {
+    (Vec3::from_f32(b.min[0], b.min[1], b.min[2]), Vec3::from_f32(b.max[0], b.max[1], b.max[2]))
+}
+
+/// Builds the tree of `scene` into `nodes` (flat, pairs) and `order`
+/// (exactly the scene's primitive count long). The caller checked capacity.
+pub(super) fn build<S: Scalar>(scene: &SceneView<'_, S>, settings: &BuildSettings, nodes: &mut [BvhNode<S>], order: &mut [u32]) -> BvhStats {
+    let n = order.len();
+    let bins = (settings.bins as usize).clamp(2, MAX_BINS);
+    let max_leaf = settings.max_leaf.max(1);
+    let max_depth = (settings.max_depth as usize).min(MAX_DEPTH);
+    let c_trav = if settings.traversal_cost.is_finite() { settings.traversal_cost.max(0.0) } else { 1.0 };
+    let c_isect = if settings.intersection_cost.is_finite() && settings.intersection_cost > 0.0 { settings.intersection_cost } else { 1.0 };
+
+    // Bounded primitives first (index order), then the unbounded ones; and
+    // the scene's scale for the padding.
+    let mut scale = if settings.reach.is_finite() { settings.reach.abs() } else { 0.0 };
+    let mut bounded = 0usize;
+    for id in 0..n as u32 {
+        if let Some(b) = raw_bounds(scene, id) {
+            for v in b.min.iter().chain(b.max.iter()) {
+                if v.abs() > scale {
+                    scale = v.abs();
+                }
+            }
+            order[bounded] = id;
+            bounded += 1;
+        }
+    }
+    let mut next = bounded;
+    for id in 0..n as u32 {
+        if raw_bounds(scene, id).is_none() {
+            order[next] = id;
+            next += 1;
+        }
+    }
+    // 2⁻¹⁶ of the scene's scale; never zero.
+    let pad = (scale * (1.0 / 65536.0)).max(f32::MIN_POSITIVE);
+
+    let mut stats = BvhStats { primitives: n as u32, unbounded: (n - bounded) as u32, ..BvhStats::default() };
+    if bounded == 0 {
+        return stats;
+    }
+
+    // Depth-first over an explicit stack: each task pushes at most two, and
+    // the stack holds at most one pending sibling per level.
+    let mut tasks = [Task::default(); MAX_DEPTH + 2];
+    tasks[0] = Task { node: 0, begin: 0, end: bounded as u32, depth: 0 };
+    let mut sp = 1usize;
+    let mut next_pair = 1usize;
+    while sp > 0 {
+        sp -= 1;
+        let task = tasks[sp];
+        let (begin, end) = (task.begin as usize, task.end as usize);
+        let count = end - begin;
+
+        // Node bounds and centroid bounds.
+        let mut node_box = Aabb::EMPTY;
+        let mut cent_box = Aabb::EMPTY;
+        for &id in &order[begin..end] {
+            let b = padded_bounds(scene, id, pad);
+            node_box.grow(&b);
+            cent_box.grow_point(b.centroid());
+        }
+        let (lo, hi) = box_to_node::<S>(&node_box);
+        stats.nodes += 1;
+
+        // Best split over all axes: cost relative to the parent's area.
+        let parent_area = node_box.half_area();
+        let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, last bin on the left)
+        let can_split = count > 1 && (task.depth as usize) < max_depth && parent_area > 0.0;
+        if can_split {
+            for axis in 0..3 {
+                let c_lo = cent_box.min[axis];
+                let extent = cent_box.max[axis] - c_lo;
+                if !(extent > 0.0) {
+                    continue;
+                }
+                let k = bins as f32 / extent;
+                let mut bin = [Bin { bounds: Aabb::EMPTY, count: 0 }; MAX_BINS];
+                for &id in &order[begin..end] {
+                    let b = padded_bounds(scene, id, pad);
+                    let i = bin_of(b.centroid()[axis], c_lo, k, bins);
+                    bin[i].bounds.grow(&b);
+                    bin[i].count += 1;
+                }
+                // Right-to-left sweep: area·count of bins i+1.. for each split i.
+                let mut right_cost = [0.0f32; MAX_BINS];
+                let mut acc = Aabb::EMPTY;
+                let mut acc_n = 0u32;
+                for i in (1..bins).rev() {
+                    acc.grow(&bin[i].bounds);
+                    acc_n += bin[i].count;
+                    right_cost[i - 1] = if acc_n > 0 { acc.half_area() * acc_n as f32 } else { -1.0 };
+                }
+                let mut acc = Aabb::EMPTY;
+                let mut acc_n = 0u32;
+                for i in 0..bins - 1 {
+                    acc.grow(&bin[i].bounds);
+                    acc_n += bin[i].count;
+                    if acc_n == 0 || right_cost[i] < 0.0 {
+                        continue;
+                    }
+                    let cost = c_trav + c_isect * ((acc.half_area() * acc_n as f32 + right_cost[i]) / parent_area);
+                    if best.map_or(true, |(c, _, _)| cost < c) {
+                        best = Some((cost, axis, i));
+                    }
+                }
+            }
+        }
+        let leaf_cost = c_isect * count as f32;
+        let split = match best {
+            Some((cost, axis, last)) if count as u32 > max_leaf || cost < leaf_cost => Some((axis, last)),
+            _ => None,
+        };
+
+        let Some((axis, last)) = split else {
+            // Leaf: its primitives in index order.
+            let leaf = &mut order[begin..end];
+            for i in 1..leaf.len() {
+                let mut j = i;
+                while j > 0 && leaf[j - 1] > leaf[j] {
+                    leaf.swap(j - 1, j);
+                    j -= 1;
+                }
+            }
+            nodes[task.node as usize] = BvhNode { min: lo, max: hi, link: begin as u32, meta: (count as u32) << 2 };
+            stats.leaves += 1;
+            stats.depth = stats.depth.max(task.depth);
+            stats.max_leaf = stats.max_leaf.max(count as u32);
+            continue;
+        };
+
+        // Partition in place: bins 0..=last to the left.
+        let c_lo = cent_box.min[axis];
+        let k = bins as f32 / (cent_box.max[axis] - c_lo);
+        let (mut i, mut j) = (begin, end);
+        while i < j {
+            let b = padded_bounds(scene, order[i], pad);
+            if bin_of(b.centroid()[axis], c_lo, k, bins) <= last {
+                i += 1;
+            } else {
+                j -= 1;
+                order.swap(i, j);
+            }
+        }
+        let mid = i;
+        let child = 2 * next_pair;
+        next_pair += 1;
+        nodes[task.node as usize] = BvhNode { min: lo, max: hi, link: child as u32, meta: axis as u32 };
+        let depth = task.depth + 1;
+        tasks[sp] = Task { node: child as u32 + 1, begin: mid as u32, end: task.end, depth };
+        tasks[sp + 1] = Task { node: child as u32, begin: task.begin, end: mid as u32, depth };
+        sp += 2;
+    }
+    stats
+}

@@ -1,0 +1,116 @@
+//! raypack on a Cortex-M0 with 16 KiB of RAM (QEMU `microbit`): the demo
+//! scene at 160×128 in soft-float single precision, one ray at a time
+//! (width 1), one image row per band, reported over semihosting.
+//!
+//! Memory: the scene is built in place in a `static` (never copied on the
+//! stack), the band is one row (480 bytes); statics and the stack together
+//! must fit in the 16 KiB, and the report says how much of it they took.
+#![no_std]
+#![no_main]
+
+use core::ptr::{addr_of, addr_of_mut};
+use cortex_m_rt::{entry, exception, ExceptionFrame};
+use cortex_m_semihosting::{debug, hio};
+use raypack::render::Rgb8;
+use raypack_firmware_common::{self as fw, stack, Console, DemoScene};
+
+/// Packet width: the scalar path (no SIMD, and the smallest stack).
+const WIDTH: usize = 1;
+/// Rows per band.
+const BAND_ROWS: usize = 1;
+
+static mut SCENE: DemoScene<f32> = DemoScene::new();
+static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
+
+extern "C" {
+    /// Top of the stack (cortex-m-rt): the end of RAM.
+    static _stack_start: u32;
+    /// Lowest address the stack may use: the end of the statics.
+    static _stack_end: u32;
+    /// Start of `.data`, the first static in RAM.
+    static __sdata: u32;
+}
+
+/// Semihosting standard output.
+struct Semihosting(Option<hio::HostStream>);
+
+impl Console for Semihosting {
+    fn write_str(&mut self, s: &str) {
+        if let Some(out) = self.0.as_mut() {
+            let _ = out.write_all(s.as_bytes());
+        }
+    }
+}
+
+fn console() -> Semihosting {
+    Semihosting(hio::hstdout().ok())
+}
+
+fn exit(ok: bool) -> ! {
+    debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
+    loop {
+        cortex_m::asm::bkpt();
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    let top = addr_of!(_stack_start) as usize;
+    let bottom = addr_of!(_stack_end) as usize;
+    // SAFETY: `[bottom, sp)` is unused stack: above the statics, below us.
+    unsafe { stack::paint(bottom as *mut u32) };
+
+    let mut con = console();
+    fw::report_start(&mut con, &fw::Board { name: "microbit", cpu: "cortex-m0 (soft-float f32)" });
+
+    // SAFETY: the only references to these statics, taken once.
+    let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
+    let result = fw::render_demo::<f32, WIDTH>(scene, band);
+    let ok = match &result {
+        Ok(r) => {
+            fw::report_render(&mut con, "f32", WIDTH, r);
+            true
+        }
+        Err(e) => {
+            fw::report_failure(&mut con, "f32", e);
+            false
+        }
+    };
+    // Hook for the fixed-point scalar (once it is in the core): render the
+    // same scene again with it, reusing the scene's memory, e.g.
+    // `fw::render_demo::<Fixed, WIDTH>(fixed_scene, band)` and
+    // `fw::report_render(&mut con, "fixed", WIDTH, r)`.
+
+    // SAFETY: `[bottom, top)` is the painted stack region.
+    let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
+    let static_ram = bottom - addr_of!(__sdata) as usize;
+    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top - bottom, static_ram });
+    con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
+    exit(ok)
+}
+
+#[exception]
+unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
+    let mut con = console();
+    con.write_str("result=FAILED HardFault at pc=");
+    con.write_hex32(frame.pc());
+    con.write_str("\n");
+    exit(false)
+}
+
+#[exception]
+unsafe fn DefaultHandler(irqn: i16) {
+    let mut con = console();
+    con.write_str("result=FAILED unexpected exception ");
+    con.write_u32(irqn as u16 as u32);
+    con.write_str("\n");
+    exit(false)
+}
+
+#[cfg(not(feature = "panic-never"))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    let mut con = console();
+    con.write_str("result=FAILED panic\n");
+    exit(false)
+}

@@ -1,0 +1,133 @@
+//! raypack on a Cortex-M4F (QEMU `mps2-an386`): the demo scene at 160×128
+//! in hardware single precision, 8-wide packets, band by band, reported over
+//! semihosting. Also checks that the FPU computes plain IEEE 754: no
+//! flush-to-zero, no default-NaN mode, round to nearest.
+#![no_std]
+#![no_main]
+
+use core::ptr::{addr_of, addr_of_mut};
+use cortex_m_rt::{entry, exception, ExceptionFrame};
+use cortex_m_semihosting::{debug, hio};
+use raypack::render::Rgb8;
+use raypack_firmware_common::{self as fw, stack, Console, DemoScene};
+
+/// Packet width: 8 lanes (the FPU is scalar, but the width is what the
+/// host's widest path uses, and the checksum must not depend on it).
+const WIDTH: usize = 8;
+/// Rows per band: one row of 8-wide (4×2) packets.
+const BAND_ROWS: usize = 2;
+/// Bytes of stack painted and watched (the stack region is most of 4 MiB).
+const STACK_WINDOW: usize = 64 * 1024;
+
+static mut SCENE: DemoScene<f32> = DemoScene::new();
+static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
+
+extern "C" {
+    /// Top of the stack (cortex-m-rt).
+    static _stack_start: u32;
+    /// Lowest address the stack may use: the end of the statics.
+    static _stack_end: u32;
+    /// Start of `.data`, the first static in RAM.
+    static __sdata: u32;
+}
+
+/// Semihosting standard output.
+struct Semihosting(Option<hio::HostStream>);
+
+impl Console for Semihosting {
+    fn write_str(&mut self, s: &str) {
+        if let Some(out) = self.0.as_mut() {
+            let _ = out.write_all(s.as_bytes());
+        }
+    }
+}
+
+fn console() -> Semihosting {
+    Semihosting(hio::hstdout().ok())
+}
+
+fn exit(ok: bool) -> ! {
+    debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
+    loop {
+        cortex_m::asm::bkpt();
+    }
+}
+
+/// Reads FPSCR (current FP status and control) and FPDSCR (the defaults
+/// loaded into FPSCR for new floating-point contexts, 0xE000_EF3C).
+fn fp_control() -> (u32, u32) {
+    let fpscr = cortex_m::register::fpscr::read().bits();
+    // SAFETY: FPDSCR is an always-readable System Control Space register.
+    let fpdscr = unsafe { core::ptr::read_volatile(0xE000_EF3C as *const u32) };
+    (fpscr, fpdscr)
+}
+
+#[entry]
+fn main() -> ! {
+    let top = addr_of!(_stack_start) as usize;
+    let bottom = (addr_of!(_stack_end) as usize).max(top - STACK_WINDOW);
+    // SAFETY: `[bottom, sp)` is unused stack: above the statics, below us.
+    unsafe { stack::paint(bottom as *mut u32) };
+
+    let mut con = console();
+    fw::report_start(&mut con, &fw::Board { name: "mps2-an386", cpu: "cortex-m4f (hardware f32)" });
+
+    // IEEE mode check: FZ (bit 24) and DN (bit 25) must be clear, RMode
+    // (bits 23:22) round-to-nearest, in FPSCR and in FPDSCR.
+    let (fpscr, fpdscr) = fp_control();
+    const MODE_BITS: u32 = (1 << 24) | (1 << 25) | (3 << 22);
+    let ieee = fpscr & MODE_BITS == 0 && fpdscr & MODE_BITS == 0;
+    con.write_str("fpscr=");
+    con.write_hex32(fpscr);
+    con.write_str(" fpdscr=");
+    con.write_hex32(fpdscr);
+    con.write_str(if ieee { " (flush-to-zero off, default-NaN off, round to nearest)\n" } else { " NOT IEEE MODE\n" });
+
+    // SAFETY: the only references to these statics, taken once.
+    let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
+    let result = fw::render_demo::<f32, WIDTH>(scene, band);
+    let ok = match &result {
+        Ok(r) => {
+            fw::report_render(&mut con, "f32", WIDTH, r);
+            true
+        }
+        Err(e) => {
+            fw::report_failure(&mut con, "f32", e);
+            false
+        }
+    };
+
+    // SAFETY: `[bottom, top)` is the painted stack window.
+    let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
+    let static_ram = addr_of!(_stack_end) as usize - addr_of!(__sdata) as usize;
+    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top - bottom, static_ram });
+    let ok = ok && ieee;
+    con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
+    exit(ok)
+}
+
+#[exception]
+unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
+    let mut con = console();
+    con.write_str("result=FAILED HardFault at pc=");
+    con.write_hex32(frame.pc());
+    con.write_str("\n");
+    exit(false)
+}
+
+#[exception]
+unsafe fn DefaultHandler(irqn: i16) {
+    let mut con = console();
+    con.write_str("result=FAILED unexpected exception ");
+    con.write_u32(irqn as u16 as u32);
+    con.write_str("\n");
+    exit(false)
+}
+
+#[cfg(not(feature = "panic-never"))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    let mut con = console();
+    con.write_str("result=FAILED panic\n");
+    exit(false)
+}

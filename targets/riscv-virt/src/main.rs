@@ -1,0 +1,118 @@
+//! raypack on RV32IMAC (QEMU riscv32 `virt`, `-bios none`): the demo scene
+//! at 160×128 in soft-float single precision, 4-wide packets, band by band,
+//! reported over semihosting.
+#![no_std]
+#![no_main]
+
+use core::ptr::{addr_of, addr_of_mut};
+use raypack::render::Rgb8;
+use raypack_firmware_common::{self as fw, stack, Console, DemoScene};
+use riscv_semihosting::{debug, hio};
+
+/// Packet width.
+const WIDTH: usize = 4;
+/// Rows per band: one row of 4-wide (2×2) packets.
+const BAND_ROWS: usize = 2;
+/// Bytes of stack painted and watched (the stack region is most of 16 MiB).
+const STACK_WINDOW: usize = 64 * 1024;
+
+static mut SCENE: DemoScene<f32> = DemoScene::new();
+static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
+
+extern "C" {
+    /// Top of the stack (riscv-rt): the end of RAM.
+    static _stack_start: u32;
+    /// Bottom of the stack region (riscv-rt): above the statics and the
+    /// (empty) heap.
+    static __estack: u32;
+    /// Start of `.data`, the first static.
+    static __sdata: u32;
+}
+
+/// Semihosting standard output.
+struct Semihosting(Option<hio::HostStream>);
+
+impl Console for Semihosting {
+    fn write_str(&mut self, s: &str) {
+        if let Some(out) = self.0.as_mut() {
+            let _ = out.write_all(s.as_bytes());
+        }
+    }
+}
+
+fn console() -> Semihosting {
+    Semihosting(hio::hstdout().ok())
+}
+
+fn exit(ok: bool) -> ! {
+    debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
+    loop {
+        riscv::asm::wfi();
+    }
+}
+
+#[riscv_rt::entry]
+fn main() -> ! {
+    let top = addr_of!(_stack_start) as usize;
+    let bottom = (addr_of!(__estack) as usize).max(top - STACK_WINDOW);
+    // SAFETY: `[bottom, sp)` is unused stack: above the statics, below us.
+    unsafe { stack::paint(bottom as *mut u32) };
+
+    let mut con = console();
+    fw::report_start(&mut con, &fw::Board { name: "riscv-virt", cpu: "rv32imac (soft-float f32)" });
+
+    // SAFETY: the only references to these statics, taken once.
+    let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
+    let result = fw::render_demo::<f32, WIDTH>(scene, band);
+    let ok = match &result {
+        Ok(r) => {
+            fw::report_render(&mut con, "f32", WIDTH, r);
+            true
+        }
+        Err(e) => {
+            fw::report_failure(&mut con, "f32", e);
+            false
+        }
+    };
+    // Hook for the fixed-point scalar (once it is in the core): render the
+    // same scene again with it, e.g. `fw::render_demo::<Fixed, WIDTH>(..)`
+    // and `fw::report_render(&mut con, "fixed", WIDTH, r)`.
+
+    // SAFETY: `[bottom, top)` is the painted stack window.
+    let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
+    let static_ram = addr_of!(__estack) as usize - addr_of!(__sdata) as usize;
+    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top - bottom, static_ram });
+    con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
+    exit(ok)
+}
+
+/// Any exception (illegal instruction, access fault, misaligned access,
+/// ...): report `mcause` and `mepc`, exit non-zero.
+#[export_name = "ExceptionHandler"]
+fn exception_handler(_frame: &riscv_rt::TrapFrame) -> ! {
+    let mut con = console();
+    con.write_str("result=FAILED exception mcause=");
+    con.write_hex32(riscv::register::mcause::read().bits() as u32);
+    con.write_str(" mepc=");
+    con.write_hex32(riscv::register::mepc::read() as u32);
+    con.write_str("\n");
+    exit(false)
+}
+
+/// Any interrupt (none is enabled): report and exit non-zero.
+#[export_name = "DefaultHandler"]
+fn default_handler() -> ! {
+    let mut con = console();
+    con.write_str("result=FAILED unexpected interrupt mcause=");
+    con.write_hex32(riscv::register::mcause::read().bits() as u32);
+    con.write_str("\n");
+    exit(false)
+}
+
+#[cfg(not(feature = "panic-never"))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    let mut con = console();
+    con.write_str("result=FAILED panic\n");
+    exit(false)
+}

@@ -1,0 +1,92 @@
+//! Every scene in `tests/scenes/` (the 17 SPD databases and raypack's
+//! extension sample) reads without error, and the scanner's counts match the
+//! scene that the reader builds.
+
+use raypack::nff;
+use raypack::prelude::*;
+use raypack::primitives::ShapeKind;
+
+/// Big enough for every file here (gears-2 is the largest).
+type Big = Scene<f32, 16384, 65536, 64, 16>;
+
+const SCENES: [(&str, &str); 18] = [
+    ("balls-1", include_str!("scenes/balls-1.nff")),
+    ("balls-2", include_str!("scenes/balls-2.nff")),
+    ("gears-1", include_str!("scenes/gears-1.nff")),
+    ("gears-2", include_str!("scenes/gears-2.nff")),
+    ("jacks-1", include_str!("scenes/jacks-1.nff")),
+    ("lattice-1", include_str!("scenes/lattice-1.nff")),
+    ("mount-1", include_str!("scenes/mount-1.nff")),
+    ("mount-2", include_str!("scenes/mount-2.nff")),
+    ("rings-1", include_str!("scenes/rings-1.nff")),
+    ("shells-1", include_str!("scenes/shells-1.nff")),
+    ("sombrero-1", include_str!("scenes/sombrero-1.nff")),
+    ("teapot-1", include_str!("scenes/teapot-1.nff")),
+    ("teapot-2", include_str!("scenes/teapot-2.nff")),
+    ("tetra-1", include_str!("scenes/tetra-1.nff")),
+    ("tetra-2", include_str!("scenes/tetra-2.nff")),
+    ("tree-1", include_str!("scenes/tree-1.nff")),
+    ("tree-2", include_str!("scenes/tree-2.nff")),
+    ("extensions", include_str!("scenes/extensions.nff")),
+];
+
+/// Runs `f` on a thread whose stack holds a `Big` scene.
+fn with_big_stack(f: impl FnOnce() + Send + 'static) {
+    std::thread::Builder::new()
+        .stack_size(64 << 20)
+        .spawn(f)
+        .unwrap()
+        .join()
+        .unwrap();
+}
+
+#[test]
+fn every_scene_reads_and_counts_agree() {
+    with_big_stack(|| {
+        for (name, text) in SCENES {
+            let info = nff::scan(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let mut scene = Big::new();
+            let read = nff::parse(text, &mut scene).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(read, info, "{name}");
+            let view = scene.view();
+            let c = info.counts;
+            assert_eq!(view.primitives().len(), c.primitives(), "{name}");
+            assert_eq!(view.vertices().len(), c.vertices, "{name}");
+            assert_eq!(view.materials().len(), c.materials, "{name}");
+            assert_eq!(view.lights().len(), c.lights, "{name}");
+            assert_eq!(view.count(ShapeKind::Sphere), c.spheres, "{name}");
+            assert_eq!(view.count(ShapeKind::Polygon), c.polygons, "{name}");
+            assert_eq!(view.count(ShapeKind::Patch), c.patches, "{name}");
+            assert_eq!(view.count(ShapeKind::Cone), c.cones, "{name}");
+            let cam = info.camera.unwrap_or_else(|| panic!("{name}: no camera"));
+            assert!(cam.camera::<f32>(cam.width, cam.height).is_ok(), "{name}");
+            println!(
+                "{name:>10}: {:5} primitives ({} s, {} p, {} pp, {} c), {:6} vertex slots, {:2} materials, {} lights, {} degenerate, {}x{}",
+                c.primitives(), c.spheres, c.polygons, c.patches, c.cones, c.vertices, c.materials, c.lights,
+                scene.degenerate_polygons(), cam.width, cam.height
+            );
+        }
+    });
+}
+
+#[test]
+fn teapot_1_has_four_zero_area_polygons() {
+    with_big_stack(|| {
+        let mut scene = Big::new();
+        nff::parse(SCENES[11].1, &mut scene).unwrap();
+        assert_eq!(scene.degenerate_polygons(), 4);
+    });
+}
+
+#[test]
+fn gears_2_needs_more_than_a_small_scene_and_says_so() {
+    with_big_stack(|| {
+        let text = SCENES[3].1;
+        let needs = nff::scan(text).unwrap().counts;
+        let mut small: Scene<f32, 1024, 4096> = Scene::new();
+        let e = nff::parse(text, &mut small).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains(&format!("capacity 1024 exceeded (needs {})", needs.primitives()))
+            || msg.contains(&format!("capacity 4096 exceeded (needs {})", needs.vertices)), "{msg}");
+    });
+}
