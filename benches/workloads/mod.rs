@@ -12,7 +12,7 @@ use raypack::scene::Scene;
 pub type Packets<const W: usize> = Vec<(RayPacket<f32, W>, Mask<W>)>;
 
 /// Room for the largest grid (256 spheres) and the kind scenes.
-pub type BenchScene = Scene<f32, 1024, 64, 4, 2>;
+pub type BenchScene = Scene<f32, 1024, 256, 4, 2>;
 
 /// Every camera ray of `cam`, in packets of width `W`.
 pub fn packets<const W: usize>(cam: &Camera<f32>) -> Packets<W> {
