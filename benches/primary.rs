@@ -1,116 +1,109 @@
-//! Primary-ray intersection of a sphere-heavy scene at packet widths 1, 4, 8
-//! (rays per second), plus the full Whitted render of the demo scene.
+//! Criterion benches of the packet kernels and whole renders, all through
+//! the instruction-set dispatcher with the ISA it picks on this machine
+//! (`Isa::best()`; printed at the start):
+//! - `kernel/<kind>`: the bare kernel of each primitive kind (16 of it, the
+//!   packet in registers), widths 1, 4, 8 (16 too where AVX-512 runs);
+//!   throughput in ray-primitive tests;
+//! - `primary_grid_1024/<N>`: primary rays (closest hit) of a 1024×1024
+//!   image against N = 1, 16, 64, 256 spheres, width 8, single thread;
+//! - `whitted_demo_256`: the full Whitted render of the demo scene, widths
+//!   1, 4, 8;
+//! - `whitted_spd_256/<scene>`: SPD balls-2, gears-2, teapot-2 through the
+//!   BVH, width 8, 256×256, single thread.
 //!
-//! `cargo bench --bench primary`; add `RUSTFLAGS="-C target-cpu=native"` to
-//! let LLVM use AVX2/AVX-512 for the 8-wide lanes.
+//! `cargo bench --bench primary` (about 2 minutes of measuring). Ratios in
+//! the README come from `examples/primary_probe.rs` and
+//! `examples/scene_probe.rs`, which interleave the configurations.
+mod workloads;
+
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use raypack::bvh::Bvh;
 use raypack::demo::{demo_camera, demo_scene};
+use raypack::dispatch::Isa;
+use raypack::nff;
 use raypack::prelude::*;
 use std::hint::black_box;
 use std::time::Duration;
+use workloads::*;
 
-const SIZE: u32 = 256;
-
-/// A 4×4 grid of spheres filling the view, on a floor plane, lit by two lights.
-fn sphere_grid() -> (Scene<f32, 32, 8>, Camera<f32>) {
-    let mut s: Scene<f32, 32, 8> = Scene::new();
-    let m = s.add_material(Material::diffuse(Vec3::new(0.8, 0.6, 0.4))).unwrap();
-    for i in 0..4 {
-        for j in 0..4 {
-            let c = Vec3::new(-3.0 + 2.0 * i as f32, -3.0 + 2.0 * j as f32, 0.0);
-            s.add_sphere(c, 0.9, m).unwrap();
+fn bench_kernels(c: &mut Criterion) {
+    let isa = Isa::best();
+    println!("instruction set: {isa}");
+    let cam = camera(256);
+    let (p1, p4, p8, p16) = (packets::<1>(&cam), packets::<4>(&cam), packets::<8>(&cam), packets::<16>(&cam));
+    for kind in KINDS {
+        let scene = kind_scene(kind);
+        let view = scene.view();
+        let tests = 256 * 256 * view.primitives().len() as u64;
+        assert_eq!(shape_pass(isa, &view, &p1), shape_pass(isa, &view, &p8));
+        let mut g = c.benchmark_group(format!("kernel/{kind}"));
+        g.throughput(Throughput::Elements(tests));
+        g.bench_function(BenchmarkId::new(isa.name(), 1), |b| b.iter(|| shape_pass(isa, &view, black_box(&p1))));
+        g.bench_function(BenchmarkId::new(isa.name(), 4), |b| b.iter(|| shape_pass(isa, &view, black_box(&p4))));
+        g.bench_function(BenchmarkId::new(isa.name(), 8), |b| b.iter(|| shape_pass(isa, &view, black_box(&p8))));
+        if isa == Isa::Avx512 {
+            g.bench_function(BenchmarkId::new(isa.name(), 16), |b| b.iter(|| shape_pass(isa, &view, black_box(&p16))));
         }
+        g.finish();
     }
-    s.add_light(Vec3::new(5.0, 5.0, 10.0), Vec3::new(0.7, 0.7, 0.7)).unwrap();
-    let cam = Camera::new(Vec3::new(0.0, 0.0, 12.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 40.0, SIZE, SIZE).unwrap();
-    (s, cam)
 }
 
-fn packets<const W: usize>(cam: &Camera<f32>) -> Vec<(RayPacket<f32, W>, Mask<W>)> {
-    let (pw, ph) = raypack::camera::packet_shape(W);
-    let mut v = Vec::new();
-    for y in (0..cam.height()).step_by(ph as usize) {
-        for x in (0..cam.width()).step_by(pw as usize) {
-            v.push(cam.packet::<W>(x, y, cam.full_rect()));
-        }
-    }
-    v
-}
-
-fn intersect_all<const W: usize>(view: &SceneView<'_, f32>, ps: &[(RayPacket<f32, W>, Mask<W>)]) -> u32 {
-    let mut hits = 0;
-    for (ray, m) in ps {
-        let h = view.closest_hit(ray, Lanes::zero(), Lanes::splat(f32::MAX), *m);
-        hits += h.mask.count();
-    }
-    hits
-}
-
-fn bench_primary(c: &mut Criterion) {
-    let (scene, cam) = sphere_grid();
-    let view = scene.view();
-    let mut g = c.benchmark_group("primary_16_spheres");
-    g.throughput(Throughput::Elements((SIZE * SIZE) as u64));
-    let p1 = packets::<1>(&cam);
-    let p4 = packets::<4>(&cam);
+fn bench_grid(c: &mut Criterion) {
+    let isa = Isa::best();
+    let cam = camera(1024);
     let p8 = packets::<8>(&cam);
-    // Same hits at every width.
-    assert_eq!(intersect_all(&view, &p1), intersect_all(&view, &p8));
-    g.bench_function(BenchmarkId::new("width", 1), |b| b.iter(|| intersect_all(&view, black_box(&p1))));
-    g.bench_function(BenchmarkId::new("width", 4), |b| b.iter(|| intersect_all(&view, black_box(&p4))));
-    g.bench_function(BenchmarkId::new("width", 8), |b| b.iter(|| intersect_all(&view, black_box(&p8))));
-    g.finish();
-}
-
-/// The bare ray-sphere kernel: every packet against one sphere it partly
-/// covers (about half the rays hit), no scene loop.
-fn kernel_all<const W: usize>(s: &raypack::primitives::Sphere<f32>, ps: &[(RayPacket<f32, W>, Mask<W>)]) -> u32 {
-    let mut hits = 0;
-    for (ray, m) in ps {
-        let r = s.roots(ray, Lanes::zero(), Lanes::splat(f32::MAX), *m);
-        hits += r.hit0.count();
+    let mut g = c.benchmark_group("primary_grid_1024");
+    g.throughput(Throughput::Elements(1024 * 1024));
+    g.sample_size(10);
+    for n in [1, 16, 64, 256] {
+        let scene = sphere_grid(n);
+        let view = scene.view();
+        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), n), |b| b.iter(|| scene_pass(isa, &view, black_box(&p8))));
     }
-    hits
-}
-
-fn bench_kernel(c: &mut Criterion) {
-    let cam = Camera::new(Vec3::new(0.0, 0.0, 12.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 40.0, SIZE, SIZE).unwrap();
-    let s = raypack::primitives::Sphere::new(Vec3::new(0.5, -0.3, 0.0), 2.5).unwrap();
-    let p1 = packets::<1>(&cam);
-    let p4 = packets::<4>(&cam);
-    let p8 = packets::<8>(&cam);
-    assert_eq!(kernel_all(&s, &p1), kernel_all(&s, &p8));
-    let mut g = c.benchmark_group("sphere_kernel");
-    g.throughput(Throughput::Elements((SIZE * SIZE) as u64));
-    g.bench_function(BenchmarkId::new("width", 1), |b| b.iter(|| kernel_all(black_box(&s), black_box(&p1))));
-    g.bench_function(BenchmarkId::new("width", 4), |b| b.iter(|| kernel_all(black_box(&s), black_box(&p4))));
-    g.bench_function(BenchmarkId::new("width", 8), |b| b.iter(|| kernel_all(black_box(&s), black_box(&p8))));
     g.finish();
-}
-
-fn render<const W: usize>(r: &Renderer<'_, f32>, img: &mut [Rgb8]) -> u64 {
-    let mut st = RayStats::default();
-    r.render_rect::<W>(r.camera.full_rect(), img, &mut st).unwrap();
-    st.total()
 }
 
 fn bench_whitted(c: &mut Criterion) {
+    let isa = Isa::best();
     let scene = demo_scene::<f32>().unwrap();
-    let cam = demo_camera::<f32>(SIZE, SIZE).unwrap();
+    let cam = demo_camera::<f32>(256, 256).unwrap();
     let tracer: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
     let r = Renderer::new(tracer, cam);
-    let mut img = vec![[0u8; 3]; (SIZE * SIZE) as usize];
-    let mut g = c.benchmark_group("whitted_demo");
-    g.throughput(Throughput::Elements((SIZE * SIZE) as u64));
-    g.bench_function(BenchmarkId::new("width", 1), |b| b.iter(|| render::<1>(&r, &mut img)));
-    g.bench_function(BenchmarkId::new("width", 4), |b| b.iter(|| render::<4>(&r, &mut img)));
-    g.bench_function(BenchmarkId::new("width", 8), |b| b.iter(|| render::<8>(&r, &mut img)));
+    let mut img = vec![[0u8; 3]; 256 * 256];
+    let mut g = c.benchmark_group("whitted_demo_256");
+    g.throughput(Throughput::Elements(256 * 256));
+    g.bench_function(BenchmarkId::new(isa.name(), 1), |b| b.iter(|| render_pass::<1>(isa, &r, &mut img)));
+    g.bench_function(BenchmarkId::new(isa.name(), 4), |b| b.iter(|| render_pass::<4>(isa, &r, &mut img)));
+    g.bench_function(BenchmarkId::new(isa.name(), 8), |b| b.iter(|| render_pass::<8>(isa, &r, &mut img)));
+    g.finish();
+}
+
+type Big = raypack::scene::Scene<f32, 16384, 65536, 64, 16>;
+
+fn bench_spd(c: &mut Criterion) {
+    let isa = Isa::best();
+    let mut g = c.benchmark_group("whitted_spd_256");
+    g.throughput(Throughput::Elements(256 * 256));
+    g.sample_size(10);
+    for name in ["balls-2", "gears-2", "teapot-2"] {
+        let path = format!("{}/tests/scenes/{name}.nff", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut scene: Box<Big> = Box::new(Big::new());
+        let info = nff::parse(&text, &mut *scene).unwrap();
+        let cam = info.camera.unwrap().camera::<f32>(256, 256).unwrap();
+        let mut bvh: Box<Bvh<f32, 16384>> = Box::new(Bvh::new());
+        bvh.build(&scene.view()).unwrap();
+        let view = scene.view().with_bvh(&bvh).unwrap();
+        let r = Renderer::new(Tracer::new(view, TraceSettings::default()).unwrap(), cam);
+        let mut img = vec![[0u8; 3]; 256 * 256];
+        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), name), |b| b.iter(|| render_pass::<8>(isa, &r, &mut img)));
+    }
     g.finish();
 }
 
 criterion_group! {
     name = benches;
-    config = Criterion::default().sample_size(20).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
-    targets = bench_kernel, bench_primary, bench_whitted
+    config = Criterion::default().sample_size(10).warm_up_time(Duration::from_millis(300)).measurement_time(Duration::from_secs(2));
+    targets = bench_kernels, bench_grid, bench_whitted, bench_spd
 }
 criterion_main!(benches);

@@ -19,4 +19,7 @@ cargo build --lib --no-default-features --target thumbv7em-none-eabihf
 say "docs build without warnings"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --all-features -q
 
+say "dispatched machine code: packed, no FMA (x86-64)"
+./scripts/check-asm.sh
+
 say "all tests passed"

@@ -43,6 +43,10 @@ pub mod scene;
 pub mod trace;
 pub mod vec3;
 
+/// Run-time instruction-set dispatch (std only; the one module allowed `unsafe`).
+#[cfg(feature = "std")]
+pub mod dispatch;
+
 pub use fixed::Fixed;
 pub use scalar::Scalar;
 

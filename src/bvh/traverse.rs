@@ -153,7 +153,7 @@ fn walk<S: Scalar, const W: usize>(
 
 impl<'a, S: Scalar> BvhView<'a, S> {
     /// [`SceneView::closest_hit`] through the tree.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn closest_hit<const W: usize>(
         &self,
         scene: &SceneView<'a, S>,
@@ -196,7 +196,7 @@ impl<'a, S: Scalar> BvhView<'a, S> {
     }
 
     /// [`SceneView::transmittance`] through the tree.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn transmittance<const W: usize>(
         &self,
         scene: &SceneView<'a, S>,

@@ -74,8 +74,27 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
     t_max: Lanes<S, W>,
     active: Mask<W>,
 ) -> Roots<S, W> {
+    let (nx, fx) = slab_axis(origin.x, dir.x, min.x, max.x);
+    let (ny, fy) = slab_axis(origin.y, dir.y, min.y, max.y);
+    let (nz, fz) = slab_axis(origin.z, dir.z, min.z, max.z);
+    // The ray is inside the box between the last entry and the first exit.
+    let t_near = nx.max(ny).max(nz);
+    let t_far = fx.min(fy).min(fz);
+    let hit = active & t_near.le(t_far);
+    if hit.none() {
+        return Roots::none();
+    }
+    Roots::from_candidates(t_near, hit, t_far, hit & t_far.gt(t_near), t_min, t_max)
+}
+
+/// Entry and exit distances `(near, far)` of one slab `lo <= o + t·d <= hi`.
+///
+/// A function rather than a closure so that it is inlined (and compiled for
+/// the instruction set of the caller; see `dispatch`).
+#[inline(always)]
+fn slab_axis<S: Scalar, const W: usize>(o: Lanes<S, W>, d: Lanes<S, W>, lo: S, hi: S) -> (Lanes<S, W>, Lanes<S, W>) {
     let big = Lanes::splat(S::MAX);
-    let axis = |o: Lanes<S, W>, d: Lanes<S, W>, lo: S, hi: S| {
+    {
         let parallel = d.eq_lanes(Lanes::zero());
         // Distances to both slab planes; the division is guarded for parallel lanes.
         let t1 = (Lanes::splat(lo) - o).div_nonzero(d);
@@ -87,18 +106,7 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
         let near = Lanes::select(parallel, Lanes::select(inside, -big, big), near);
         let far = Lanes::select(parallel, Lanes::select(inside, big, -big), far);
         (near, far)
-    };
-    let (nx, fx) = axis(origin.x, dir.x, min.x, max.x);
-    let (ny, fy) = axis(origin.y, dir.y, min.y, max.y);
-    let (nz, fz) = axis(origin.z, dir.z, min.z, max.z);
-    // The ray is inside the box between the last entry and the first exit.
-    let t_near = nx.max(ny).max(nz);
-    let t_far = fx.min(fy).min(fz);
-    let hit = active & t_near.le(t_far);
-    if hit.none() {
-        return Roots::none();
     }
-    Roots::from_candidates(t_near, hit, t_far, hit & t_far.gt(t_near), t_min, t_max)
 }
 
 /// Outward normal of the face of `[min, max]` nearest to `p`.

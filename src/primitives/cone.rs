@@ -105,12 +105,13 @@ impl<S: Scalar> Cone<S> {
         let t1 = r1;
         // Keep roots whose axial coordinate lies on the finite piece [0, h]
         // (this also removes the mirror nappe of a true cone).
-        let on_piece = |t: Lanes<S, W>| {
-            let z = oz + dz * t;
-            z.ge(Lanes::zero()) & z.le(Lanes::splat(self.height))
-        };
-        let ok0 = (quad | lin) & on_piece(t0);
-        let ok1 = quad & q.ne_lanes(Lanes::zero()) & on_piece(t1);
+        // (Written out twice rather than as a closure, which LLVM may leave
+        // un-inlined and so compiled for the baseline instruction set.)
+        let z0 = oz + dz * t0;
+        let z1 = oz + dz * t1;
+        let h = Lanes::splat(self.height);
+        let ok0 = (quad | lin) & z0.ge(Lanes::zero()) & z0.le(h);
+        let ok1 = quad & q.ne_lanes(Lanes::zero()) & z1.ge(Lanes::zero()) & z1.le(h);
         Roots::from_candidates(t0, ok0, t1, ok1, t_min, t_max)
     }
 

@@ -242,17 +242,8 @@ impl<S: Scalar> Quadric<S> {
         if let Some((lo, hi)) = self.clip {
             // A root outside the clip box does not exist; the ray goes on to
             // the other root.
-            let inside = |t: Lanes<S, W>| {
-                let p = ray.at(t);
-                p.x.ge(Lanes::splat(lo.x))
-                    & p.x.le(Lanes::splat(hi.x))
-                    & p.y.ge(Lanes::splat(lo.y))
-                    & p.y.le(Lanes::splat(hi.y))
-                    & p.z.ge(Lanes::splat(lo.z))
-                    & p.z.le(Lanes::splat(hi.z))
-            };
-            ok0 &= inside(t0);
-            ok1 &= inside(t1);
+            ok0 &= inside_box(ray.at(t0), lo, hi);
+            ok1 &= inside_box(ray.at(t1), lo, hi);
         }
         t0 = Lanes::select(ok0, t0, Lanes::splat(S::MAX));
         t1 = Lanes::select(ok1, t1, Lanes::splat(S::MAX));
@@ -297,6 +288,18 @@ fn from_matrix<S: Scalar>(m: Mat4<S>) -> [S; 10] {
         m[2][3] + m[3][2],
         m[3][3],
     ]
+}
+
+/// Lanes whose point lies in the closed box `[lo, hi]`. A function rather
+/// than a closure so that it is always inlined (see `dispatch`).
+#[inline(always)]
+fn inside_box<S: Scalar, const W: usize>(p: crate::vec3::Vec3xW<S, W>, lo: Vec3<S>, hi: Vec3<S>) -> Mask<W> {
+    p.x.ge(Lanes::splat(lo.x))
+        & p.x.le(Lanes::splat(hi.x))
+        & p.y.ge(Lanes::splat(lo.y))
+        & p.y.le(Lanes::splat(hi.y))
+        & p.z.ge(Lanes::splat(lo.z))
+        & p.z.le(Lanes::splat(hi.z))
 }
 
 #[cfg(test)]
