@@ -63,18 +63,21 @@ fn png_holds_the_same_pixels_as_ppm() {
 }
 
 #[test]
-fn same_bytes_for_every_thread_count_and_packet_width() {
+fn same_bytes_for_every_thread_count_packet_width_and_with_or_without_bvh() {
     let dir = tempfile::tempdir().unwrap();
     // Mirror, glass, every primitive kind; and patches with zero-area polygons.
     for (file, size) in [("extensions.nff", ["--width", "72", "--height", "54"]), ("teapot-1.nff", ["--width", "48", "--height", "40"])] {
         let mut reference: Option<Vec<u8>> = None;
-        for (threads, packet) in [("1", "1"), ("2", "4"), ("4", "8"), ("1", "8"), ("4", "1"), ("2", "1")] {
+        for (threads, packet, bvh) in [("1", "1", ""), ("2", "4", ""), ("4", "8", ""), ("1", "8", "--no-bvh"), ("4", "1", "--no-bvh"), ("2", "1", "")] {
             let mut args = size.to_vec();
             args.extend_from_slice(&["--threads", threads, "--packet", packet]);
+            if !bvh.is_empty() {
+                args.push(bvh);
+            }
             let bytes = render(dir.path(), &format!("{threads}-{packet}.ppm"), &scene(file), &args);
             match &reference {
                 None => reference = Some(bytes),
-                Some(r) => assert!(r == &bytes, "{file}: threads {threads}, packet {packet} differ"),
+                Some(r) => assert!(r == &bytes, "{file}: threads {threads}, packet {packet} {bvh} differ"),
             }
         }
     }

@@ -6,7 +6,7 @@ use raypack::primitives::ShapeKind;
 use std::path::Path;
 
 pub fn run(path: &Path) -> Result<(), Failure> {
-    let text = load::with_scene(path, &|s| {
+    let text = load::with_scene(path, true, &|s| {
         let c = s.info.counts;
         let mut out = String::new();
         let mut line = |t: String| {
@@ -50,6 +50,9 @@ pub fn run(path: &Path) -> Result<(), Failure> {
                 line(format!("            angle {}° (vertical), hither {}, resolution {}x{}", cam.angle, cam.hither, cam.width, cam.height));
             }
             None => line("camera      none (no `v` block)".into()),
+        }
+        if let Some(b) = s.bvh {
+            line(format!("bvh         {} nodes, {} leaves, depth {}, largest leaf {}, {} unbounded primitives", b.nodes, b.leaves, b.depth, b.max_leaf, b.unbounded));
         }
         let (p, v, m, l) = s.capacity;
         line(format!("capacity    {p} primitives, {v} vertices, {m} materials, {l} lights"));

@@ -8,6 +8,7 @@
 //! capacity and what the file needs.
 
 use crate::Failure;
+use raypack::bvh::{Bvh, BvhStats};
 use raypack::nff::{self, NffCounts, NffInfo};
 use raypack::prelude::*;
 use std::path::Path;
@@ -22,6 +23,8 @@ pub struct Loaded<'a> {
     pub degenerate: u32,
     /// The capacity tier used: (primitives, vertices, materials, lights).
     pub capacity: (usize, usize, usize, usize),
+    /// The acceleration tree traced through, if any.
+    pub bvh: Option<BvhStats>,
 }
 
 /// Reads a scene file as text, with the path in the error.
@@ -39,10 +42,12 @@ fn fits(c: &NffCounts, p: usize, v: usize, m: usize, l: usize) -> bool {
 fn load_in<const P: usize, const V: usize, const M: usize, const L: usize, T: Send>(
     path: &Path,
     text: &str,
+    use_bvh: bool,
     f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync),
 ) -> Result<T, Failure> {
-    // Twice the scene: an unoptimized build may build it in a temporary first.
-    let stack = 2 * std::mem::size_of::<Scene<f32, P, V, M, L>>() + (32 << 20);
+    // Twice the scene and tree: an unoptimized build may build them in
+    // temporaries first.
+    let stack = 2 * (std::mem::size_of::<Scene<f32, P, V, M, L>>() + std::mem::size_of::<Bvh<f32, P>>()) + (32 << 20);
     std::thread::scope(|s| {
         let worker = std::thread::Builder::new()
             .name("raypack-scene".into())
@@ -50,26 +55,33 @@ fn load_in<const P: usize, const V: usize, const M: usize, const L: usize, T: Se
             .spawn_scoped(s, || {
                 let mut scene = Scene::<f32, P, V, M, L>::new();
                 let info = nff::parse(text, &mut scene).map_err(|e| Failure(format!("{}: {e}", path.display())))?;
-                f(Loaded { view: scene.view(), info, degenerate: scene.degenerate_polygons(), capacity: (P, V, M, L) })
+                let mut bvh = Bvh::<f32, P>::new();
+                let (view, stats) = if use_bvh {
+                    let stats = bvh.build(&scene.view())?;
+                    (scene.view().with_bvh(&bvh)?, Some(stats))
+                } else {
+                    (scene.view(), None)
+                };
+                f(Loaded { view, info, degenerate: scene.degenerate_polygons(), capacity: (P, V, M, L), bvh: stats })
             })
             .map_err(|e| Failure(format!("cannot start a thread for the scene: {e}")))?;
         worker.join().unwrap_or_else(|p| std::panic::resume_unwind(p))
     })
 }
 
-/// Reads `path` into the smallest capacity tier that holds it and runs `f`
-/// on the scene.
-pub fn with_scene<T: Send>(path: &Path, f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync)) -> Result<T, Failure> {
+/// Reads `path` into the smallest capacity tier that holds it, builds its
+/// BVH if `use_bvh`, and runs `f` on the scene.
+pub fn with_scene<T: Send>(path: &Path, use_bvh: bool, f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync)) -> Result<T, Failure> {
     let text = read_text(path)?;
     let counts = nff::scan(&text).map_err(|e| Failure(format!("{}: {e}", path.display())))?.counts;
     if fits(&counts, 1 << 10, 1 << 13, 256, 64) {
-        load_in::<{ 1 << 10 }, { 1 << 13 }, 256, 64, T>(path, &text, f)
+        load_in::<{ 1 << 10 }, { 1 << 13 }, 256, 64, T>(path, &text, use_bvh, f)
     } else if fits(&counts, 1 << 14, 1 << 17, 1024, 256) {
-        load_in::<{ 1 << 14 }, { 1 << 17 }, 1024, 256, T>(path, &text, f)
+        load_in::<{ 1 << 14 }, { 1 << 17 }, 1024, 256, T>(path, &text, use_bvh, f)
     } else if fits(&counts, 1 << 18, 1 << 21, 16384, 4096) {
-        load_in::<{ 1 << 18 }, { 1 << 21 }, 16384, 4096, T>(path, &text, f)
+        load_in::<{ 1 << 18 }, { 1 << 21 }, 16384, 4096, T>(path, &text, use_bvh, f)
     } else {
         // The largest tier; beyond it the reader reports the capacity error.
-        load_in::<{ 1 << 20 }, { 1 << 23 }, 65536, 16384, T>(path, &text, f)
+        load_in::<{ 1 << 20 }, { 1 << 23 }, 65536, 16384, T>(path, &text, use_bvh, f)
     }
 }

@@ -98,6 +98,9 @@ struct RenderArgs {
     /// What to write per pixel.
     #[arg(long, value_enum, default_value = "color")]
     aov: AovArg,
+    /// Test every ray against every primitive instead of using the BVH (same image, slower).
+    #[arg(long)]
+    no_bvh: bool,
     /// No progress bar, warnings or summary (errors are still reported).
     #[arg(short, long)]
     quiet: bool,

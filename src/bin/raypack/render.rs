@@ -35,7 +35,7 @@ struct Rendered {
 pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     // Fails now (before rendering) on a bad extension or an unwritable place.
     let image = PendingImage::create(&args.output)?;
-    let r = load::with_scene(&args.scene, &|scene| render_scene(args, scene))?;
+    let r = load::with_scene(&args.scene, !args.no_bvh, &|scene| render_scene(args, scene))?;
     image.finish(r.width, r.height, &r.pixels)?;
     if !args.quiet {
         let s = &r.stats;
