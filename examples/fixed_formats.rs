@@ -4,7 +4,8 @@
 //! the `f32` render of the same scene.
 //!
 //! ```sh
-//! cargo run --release --example fixed_formats -- [WIDTH HEIGHT] [scene.nff ...]
+//! cargo run --release --example fixed_formats -- 160 120      # demo scene, every format
+//! cargo run --release --example fixed_formats -- 0 0 tests/scenes/*-1.nff  # files at their resolution
 //! ```
 //!
 //! The emulation `Q<F, B>` is a `B`-bit two's-complement number with `F`
@@ -112,15 +113,47 @@ impl<const F: u32, const B: u32> Scalar for Q<F, B> {
     }
 }
 
-/// A scene and its camera in any scalar: the demo scene, or an NFF file when
-/// the crate has a reader.
-fn render<S: Scalar>(scene: &SceneView<'_, S>, camera: Camera<S>, aov: Aov) -> Vec<Rgb8> {
-    let tracer: Tracer<S> = Tracer::new(*scene, TraceSettings::default()).unwrap();
-    let renderer = Renderer { tracer, camera, aov };
-    let mut img = vec![[0u8; 3]; (camera.width() * camera.height()) as usize];
-    let mut stats = RayStats::default();
-    renderer.render_rect::<8>(camera.full_rect(), &mut img, &mut stats).unwrap();
-    img
+type Big<S> = Scene<S, 16384, 65536, 64, 16>;
+
+/// Colour and ID renders (width 8, through a BVH when `bvh` is set).
+fn render<S: Scalar>(scene: &SceneView<'_, S>, camera: Camera<S>, bvh: bool) -> (Vec<Rgb8>, Vec<Rgb8>) {
+    let mut tree = Box::new(Bvh::<S, 16384>::new());
+    let view = if bvh {
+        tree.build(scene).unwrap();
+        scene.with_bvh(&tree).unwrap()
+    } else {
+        *scene
+    };
+    let tracer: Tracer<S> = Tracer::new(view, TraceSettings::default()).unwrap();
+    let mut out = Vec::new();
+    for aov in [Aov::Color, Aov::Id] {
+        let renderer = Renderer { tracer, camera, aov };
+        let mut img = vec![[0u8; 3]; (camera.width() * camera.height()) as usize];
+        let mut stats = RayStats::default();
+        renderer.render_rect::<8>(camera.full_rect(), &mut img, &mut stats).unwrap();
+        out.push(img);
+    }
+    let id = out.pop().unwrap();
+    (out.pop().unwrap(), id)
+}
+
+/// Renders the demo scene (`text` empty) or an NFF file with scalar `S`.
+fn render_any<S: Scalar>(text: &str, w: u32, h: u32) -> Result<(Vec<Rgb8>, Vec<Rgb8>), String> {
+    if text.is_empty() {
+        let scene = demo_scene::<S>().unwrap();
+        return Ok(render(&scene.view(), demo_camera::<S>(w, h).unwrap(), false));
+    }
+    let mut scene = Box::new(Big::<S>::new());
+    let info = raypack::nff::parse(text, &mut *scene).map_err(|e| e.to_string())?;
+    let cam = info.camera.ok_or("no camera")?;
+    let (w, h) = if w == 0 { (cam.width, cam.height) } else { (w, h) };
+    let camera = cam.camera::<S>(w, h).map_err(|e| e.to_string())?;
+    // Report (but do not enforce) the range check, so the emulated formats
+    // show what happens without it.
+    if let Err(e) = check_scene(&scene.view(), &camera) {
+        eprintln!("  (range check: {e})");
+    }
+    Ok(render(&scene.view(), camera, true))
 }
 
 fn psnr(a: &[Rgb8], b: &[Rgb8]) -> f64 {
@@ -137,28 +170,47 @@ fn agreement(a: &[Rgb8], b: &[Rgb8]) -> f64 {
     a.iter().zip(b).filter(|(p, q)| p == q).count() as f64 / a.len() as f64
 }
 
-fn measure<S: Scalar>(name: &str, w: u32, h: u32, reference: &(Vec<Rgb8>, Vec<Rgb8>)) {
-    let scene = demo_scene::<S>().unwrap();
-    let camera = demo_camera::<S>(w, h).unwrap();
-    let c = render(&scene.view(), camera, Aov::Color);
-    let id = render(&scene.view(), camera, Aov::Id);
-    println!("| {name} | {:.2} | {:.3} % |", psnr(&reference.0, &c), 100.0 * agreement(&reference.1, &id));
+fn cell<S: Scalar>(text: &str, w: u32, h: u32, reference: &(Vec<Rgb8>, Vec<Rgb8>)) -> String {
+    match render_any::<S>(text, w, h) {
+        Ok((c, id)) => format!("{:.2} dB / {:.3} %", psnr(&reference.0, &c), 100.0 * agreement(&reference.1, &id)),
+        Err(e) => format!("error: {e}"),
+    }
+}
+
+fn run(args: Vec<String>) {
+    let w: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(160);
+    let h: u32 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(120);
+    let files: Vec<String> = args.iter().skip(2).cloned().collect();
+    println!("PSNR of the colour image / ID-AOV agreement, against f32 (size {w}×{h}; 0 = the file's resolution)\n");
+    if files.is_empty() {
+        let reference = render_any::<f32>("", w, h).unwrap();
+        println!("| format | demo scene |\n| --- | --- |");
+        println!("| I16F16 (32-bit) | {} |", cell::<Q<16, 32>>("", w, h, &reference));
+        println!("| I20F12 (32-bit) | {} |", cell::<Q<12, 32>>("", w, h, &reference));
+        println!("| I24F24 (48-bit) | {} |", cell::<Q<24, 48>>("", w, h, &reference));
+        println!("| I40F24 (64-bit) | {} |", cell::<Q<24, 64>>("", w, h, &reference));
+        println!("| I24F40 (64-bit) | {} |", cell::<Q<40, 64>>("", w, h, &reference));
+        println!("| I32F32 (64-bit, emulated) | {} |", cell::<Q<32, 64>>("", w, h, &reference));
+        println!("| raypack::Fixed (I32F32) | {} |", cell::<Fixed>("", w, h, &reference));
+        return;
+    }
+    println!("| scene | Fixed (I32F32) | I16F16 (emulated) |\n| --- | --- | --- |");
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap_or_else(|e| panic!("{f}: {e}"));
+        let name = std::path::Path::new(&f).file_stem().unwrap().to_string_lossy().into_owned();
+        let reference = match render_any::<f32>(&text, w, h) {
+            Ok(r) => r,
+            Err(e) => {
+                println!("| {name} | error: {e} | |");
+                continue;
+            }
+        };
+        println!("| {name} | {} | {} |", cell::<Fixed>(&text, w, h, &reference), cell::<Q<16, 32>>(&text, w, h, &reference));
+    }
 }
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let w: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(160);
-    let h: u32 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(120);
-    let sf = demo_scene::<f32>().unwrap();
-    let cf = demo_camera::<f32>(w, h).unwrap();
-    let reference = (render(&sf.view(), cf, Aov::Color), render(&sf.view(), cf, Aov::Id));
-    println!("demo scene, {w}×{h}, against f32:\n");
-    println!("| format | PSNR (dB) | ID agreement |\n| --- | --- | --- |");
-    measure::<Q<16, 32>>("I16F16 (32-bit)", w, h, &reference);
-    measure::<Q<12, 32>>("I20F12 (32-bit)", w, h, &reference);
-    measure::<Q<24, 48>>("I24F24 (48-bit)", w, h, &reference);
-    measure::<Q<24, 64>>("I40F24 (64-bit)", w, h, &reference);
-    measure::<Q<40, 64>>("I24F40 (64-bit)", w, h, &reference);
-    measure::<Q<32, 64>>("I32F32 (64-bit, emulated)", w, h, &reference);
-    measure::<Fixed>("raypack::Fixed (I32F32)", w, h, &reference);
+    // The scenes and trees are built in place: give them a big stack.
+    std::thread::Builder::new().stack_size(512 << 20).spawn(move || run(args)).unwrap().join().unwrap();
 }
