@@ -68,7 +68,7 @@ fn same_bytes_for_every_thread_count_packet_width_and_with_or_without_bvh() {
     // Mirror, glass, every primitive kind; and patches with zero-area polygons.
     for (file, size) in [("extensions.nff", ["--width", "72", "--height", "54"]), ("teapot-1.nff", ["--width", "48", "--height", "40"])] {
         let mut reference: Option<Vec<u8>> = None;
-        for (threads, packet, bvh) in [("1", "1", ""), ("2", "4", ""), ("4", "8", ""), ("1", "8", "--no-bvh"), ("4", "1", "--no-bvh"), ("2", "1", "")] {
+        for (threads, packet, bvh) in [("1", "1", ""), ("2", "4", ""), ("4", "8", ""), ("1", "8", "--accel=none"), ("4", "1", "--accel=none"), ("2", "1", "")] {
             let mut args = size.to_vec();
             args.extend_from_slice(&["--threads", threads, "--packet", packet]);
             if !bvh.is_empty() {
@@ -180,4 +180,24 @@ fn summary_and_warning_without_quiet() {
     let e = stderr(&o);
     assert!(e.contains("warning") && e.contains("4 zero-area polygons"), "{e}");
     assert!(e.contains("16x16") && e.contains("256 primary") && e.contains("rays/s"), "{e}");
+}
+
+#[test]
+fn bvh_by_default_and_accel_none_give_the_same_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    // Polygons (gears), many small overlapping spheres (shells), glass and
+    // every primitive kind with planes outside the tree (extensions).
+    for file in ["gears-1.nff", "shells-1.nff", "extensions.nff"] {
+        let size = ["--width", "40", "--height", "32"];
+        let default = render(dir.path(), "default.ppm", &scene(file), &size);
+        let with = |accel: &'static str| [size.as_slice(), &["--accel", accel]].concat();
+        let bvh = render(dir.path(), "bvh.ppm", &scene(file), &with("bvh"));
+        let none = render(dir.path(), "none.ppm", &scene(file), &with("none"));
+        assert!(default == bvh && bvh == none, "{file}: BVH and brute force differ");
+    }
+    let out = dir.path().join("s.ppm");
+    let o = raypack(&["render", &scene("balls-1.nff"), "-o", out.to_str().unwrap(), "--width", "8", "--height", "8"]);
+    assert!(stderr(&o).contains("bvh: "), "{}", stderr(&o));
+    let o = raypack(&["render", &scene("balls-1.nff"), "-o", out.to_str().unwrap(), "--accel", "kd"]);
+    assert_eq!(o.status.code(), Some(2));
 }

@@ -6,7 +6,7 @@ use raypack::primitives::ShapeKind;
 use std::path::Path;
 
 pub fn run(path: &Path) -> Result<(), Failure> {
-    let text = load::with_scene(path, true, &|s| {
+    let text = load::with_scene_accel(path, true, &|s| {
         let c = s.info.counts;
         let mut out = String::new();
         let mut line = |t: String| {
@@ -51,8 +51,8 @@ pub fn run(path: &Path) -> Result<(), Failure> {
             }
             None => line("camera      none (no `v` block)".into()),
         }
-        if let Some(b) = s.bvh {
-            line(format!("bvh         {} nodes, {} leaves, depth {}, largest leaf {}, {} unbounded primitives", b.nodes, b.leaves, b.depth, b.max_leaf, b.unbounded));
+        if let Some((b, built)) = s.bvh {
+            line(format!("bvh         {} nodes, {} leaves, depth {}, largest leaf {}, {} unbounded primitives, built in {:.2} ms", b.nodes, b.leaves, b.depth, b.max_leaf, b.unbounded, built.as_secs_f64() * 1e3));
         }
         let (p, v, m, l) = s.capacity;
         line(format!("capacity    {p} primitives, {v} vertices, {m} materials, {l} lights"));

@@ -70,6 +70,15 @@ enum AovArg {
     Id,
 }
 
+/// How rays find what they hit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum AccelArg {
+    /// A bounding volume hierarchy (the same image, faster).
+    Bvh,
+    /// Test every primitive (brute force, for comparison).
+    None,
+}
+
 #[derive(clap::Args, Debug)]
 struct RenderArgs {
     /// The NFF scene file.
@@ -98,9 +107,9 @@ struct RenderArgs {
     /// What to write per pixel.
     #[arg(long, value_enum, default_value = "color")]
     aov: AovArg,
-    /// Test every ray against every primitive instead of using the BVH (same image, slower).
-    #[arg(long)]
-    no_bvh: bool,
+    /// Acceleration structure (`none`: brute force; the image is the same).
+    #[arg(long, value_enum, default_value = "bvh")]
+    accel: AccelArg,
     /// No progress bar, warnings or summary (errors are still reported).
     #[arg(short, long)]
     quiet: bool,

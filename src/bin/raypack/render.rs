@@ -8,7 +8,7 @@
 
 use crate::load::{self, Loaded};
 use crate::output::PendingImage;
-use crate::{AovArg, Failure, ModeArg, Packet, RenderArgs};
+use crate::{AccelArg, AovArg, Failure, ModeArg, Packet, RenderArgs};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use raypack::prelude::*;
 use rayon::prelude::*;
@@ -30,12 +30,15 @@ struct Rendered {
     stats: RayStats,
     threads: usize,
     time: Duration,
+    /// The BVH used (and its build time), `None` for brute force.
+    accel: Option<(BvhStats, Duration)>,
 }
 
 pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     // Fails now (before rendering) on a bad extension or an unwritable place.
     let image = PendingImage::create(&args.output)?;
-    let r = load::with_scene(&args.scene, !args.no_bvh, &|scene| render_scene(args, scene))?;
+    let accel = args.accel == AccelArg::Bvh;
+    let r = load::with_scene_accel(&args.scene, accel, &|scene| render_scene(args, scene))?;
     image.finish(r.width, r.height, &r.pixels)?;
     if !args.quiet {
         let s = &r.stats;
@@ -56,6 +59,17 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             s.refracted,
             rate / 1e6
         );
+        match r.accel {
+            Some((b, built)) => eprintln!(
+                "raypack: bvh: {} nodes ({} leaves, depth {}), {} primitives outside the tree, built in {:.2} ms",
+                b.nodes,
+                b.leaves,
+                b.depth,
+                b.unbounded,
+                built.as_secs_f64() * 1e3
+            ),
+            None => eprintln!("raypack: no acceleration structure (--accel none): every ray tests every primitive"),
+        }
     }
     Ok(())
 }
@@ -171,7 +185,7 @@ fn render_scene(args: &RenderArgs, scene: Loaded<'_>) -> Result<Rendered, Failur
             pixels[dst..dst + rect.w as usize].copy_from_slice(&px[src..src + rect.w as usize]);
         }
     }
-    Ok(Rendered { width, height, pixels, stats, threads: pool.current_num_threads(), time })
+    Ok(Rendered { width, height, pixels, stats, threads: pool.current_num_threads(), time, accel: scene.bvh })
 }
 
 #[cfg(test)]
