@@ -19,4 +19,7 @@ cargo build --lib --no-default-features --target thumbv7em-none-eabihf
 say "docs build without warnings"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --all-features -q
 
+say "firmware: build, prove panic-free, run under QEMU, compare with the host"
+./scripts/firmware.sh
+
 say "all tests passed"
