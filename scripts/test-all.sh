@@ -22,4 +22,7 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --all-features -q
 say "dispatched machine code: packed, no FMA (x86-64)"
 ./scripts/check-asm.sh
 
+say "firmware: build, prove panic-free, run under QEMU, compare with the host"
+./scripts/firmware.sh
+
 say "all tests passed"

@@ -147,7 +147,11 @@ impl Neg for Fixed {
 
 impl Mul for Fixed {
     type Output = Self;
-    #[inline(always)]
+    // Inlined on 64-bit hosts (a few instructions there); called on 32-bit
+    // targets, where the 128-bit arithmetic expands to a long sequence and
+    // inlining it everywhere overflows a Cortex-M0's 256 KiB of flash.
+    #[cfg_attr(target_pointer_width = "64", inline(always))]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     fn mul(self, o: Self) -> Self {
         // The exact product has 64 fractional bits; round to 32 by adding half
         // an ulp and shifting (arithmetic shift: ties go towards +∞).
@@ -158,7 +162,11 @@ impl Mul for Fixed {
 
 impl Div for Fixed {
     type Output = Self;
-    #[inline(always)]
+    // Inlined on 64-bit hosts (a few instructions there); called on 32-bit
+    // targets, where the 128-bit arithmetic expands to a long sequence and
+    // inlining it everywhere overflows a Cortex-M0's 256 KiB of flash.
+    #[cfg_attr(target_pointer_width = "64", inline(always))]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     fn div(self, o: Self) -> Self {
         let (a, b) = (self.to_bits(), o.to_bits());
         if b == 0 {

@@ -1,15 +1,17 @@
 //! The host renders the firmware's scene (the demo scene at 160×128, see
 //! `targets/`) through the same core and must get the checksums recorded in
-//! `targets/checksums.txt`, at packet widths 1, 4 and 8 alike.
+//! `targets/checksums.txt`, at packet widths 1, 4 and 8 alike, for `f32` and
+//! for the 32.32 `Fixed` scalar.
 //!
 //! How the recorded values were verified: they were produced independently
-//! by this host and by three firmware builds under QEMU (Cortex-M4F with
-//! hardware f32, Cortex-M0 and RV32IMAC with soft-float) and agreed bit for
-//! bit; `scripts/firmware.sh` re-checks the boards on every run. The image
-//! itself is checked against an independent f64 tracer in
-//! `tests/whitted_reference.rs`. Here the checksum is also recomputed with a
-//! separate, inline FNV-1a over a full-frame render, so the band helper and
-//! the hasher are checked too.
+//! by this host and by the firmware builds under QEMU (f32: Cortex-M4F with
+//! hardware f32, Cortex-M0 and RV32IMAC with soft-float; fixed point:
+//! Cortex-M0 and RV32IMAC) and agreed bit for bit; `scripts/firmware.sh`
+//! re-checks the boards on every run. The f32 image itself is checked
+//! against an independent f64 tracer in `tests/whitted_reference.rs`, the
+//! fixed-point one against f32 in `tests/fixed_point.rs`. Here the checksum
+//! is also recomputed with a separate, inline FNV-1a over a full-frame
+//! render, so the band helper and the hasher are checked too.
 
 use raypack::demo::{demo_camera, demo_scene};
 use raypack::output::{rgb565, Dither, ImageChecksums};
@@ -28,31 +30,28 @@ fn recorded(scalar: &str, key: &str) -> String {
         .unwrap_or_else(|| panic!("targets/checksums.txt has no `{scalar} {key}` line"))
 }
 
-fn checksums<const W: usize>(renderer: &Renderer<'_, f32>, band_rows: usize) -> ImageChecksums {
+fn checksums<S: Scalar, const W: usize>(renderer: &Renderer<'_, S>, band_rows: usize) -> ImageChecksums {
     let mut band = vec![[0u8; 3]; 160 * band_rows];
     renderer.checksums::<W>(&mut band).unwrap()
 }
 
-#[test]
-fn host_matches_recorded_firmware_checksums_at_every_width() {
-    let scene = demo_scene::<f32>().unwrap();
-    let camera = demo_camera::<f32>(160, 128).unwrap();
-    let tracer: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
+fn check<S: Scalar>(name: &str) -> Vec<Rgb8> {
+    let scene = demo_scene::<S>().unwrap();
+    let camera = demo_camera::<S>(160, 128).unwrap();
+    let tracer: Tracer<S> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
     let renderer = Renderer::new(tracer, camera);
 
     // The firmware configurations: width 1 with one-row bands (Cortex-M0),
-    // 4 (RISC-V) and 8 (Cortex-M4F) with two-row bands; plus other band sizes.
-    let one = checksums::<1>(&renderer, 1);
-    let four = checksums::<4>(&renderer, 2);
-    let eight = checksums::<8>(&renderer, 2);
-    assert_eq!(one, four, "widths 1 and 4 differ");
-    assert_eq!(one, eight, "widths 1 and 8 differ");
-    assert_eq!(one, checksums::<8>(&renderer, 7), "band height changes the result");
+    // 4 (RISC-V) and 8 (Cortex-M4F) with two-row bands; plus another band size.
+    let one = checksums::<S, 1>(&renderer, 1);
+    assert_eq!(one, checksums::<S, 4>(&renderer, 2), "{name}: widths 1 and 4 differ");
+    assert_eq!(one, checksums::<S, 8>(&renderer, 2), "{name}: widths 1 and 8 differ");
+    assert_eq!(one, checksums::<S, 8>(&renderer, 7), "{name}: band height changes the result");
     assert_eq!(one.pixels, 160 * 128);
 
-    assert_eq!(format!("{:#010x}", one.rgb888), recorded("f32", "rgb888"), "RGB888 checksum");
-    assert_eq!(format!("{:#010x}", one.rgb565), recorded("f32", "rgb565-bayer4"), "RGB565 checksum");
-    assert_eq!(one.rays.total().to_string(), recorded("f32", "rays"), "ray count");
+    assert_eq!(format!("{:#010x}", one.rgb888), recorded(name, "rgb888"), "{name}: RGB888 checksum");
+    assert_eq!(format!("{:#010x}", one.rgb565), recorded(name, "rgb565-bayer4"), "{name}: RGB565 checksum");
+    assert_eq!(one.rays.total().to_string(), recorded(name, "rays"), "{name}: ray count");
 
     // Independent recomputation: one full-frame render, FNV-1a written out.
     let mut full = vec![[0u8; 3]; 160 * 128];
@@ -63,5 +62,20 @@ fn host_matches_recorded_firmware_checksums_at_every_width() {
         .iter()
         .enumerate()
         .flat_map(|(i, p)| rgb565(*p, (i % 160) as u32, (i / 160) as u32, Dither::Bayer4).to_be_bytes()));
-    assert_eq!((rgb888, rgb565), (one.rgb888, one.rgb565));
+    assert_eq!((rgb888, rgb565), (one.rgb888, one.rgb565), "{name}: independent FNV-1a");
+    full
+}
+
+#[test]
+fn host_matches_recorded_firmware_checksums_at_every_width() {
+    let f = check::<f32>("f32");
+    let x = check::<Fixed>("fixed");
+    // The two scalars give nearly the same picture (see tests/fixed_point.rs),
+    // so few pixels differ, by little; report it.
+    let differing: Vec<usize> = (0..f.len()).filter(|&i| f[i] != x[i]).collect();
+    let max = differing
+        .iter()
+        .flat_map(|&i| (0..3).map(|c| (f[i][c] as i32 - x[i][c] as i32).abs()).collect::<Vec<_>>())
+        .max();
+    eprintln!("f32 vs fixed: {} of {} pixels differ, by at most {:?}", differing.len(), f.len(), max);
 }

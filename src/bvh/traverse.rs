@@ -135,7 +135,7 @@ fn walk<S: Scalar, const W: usize>(
                     }
                 } else if let Some(slot) = stack.get_mut(sp) {
                     let first = n.link();
-                    let (near, far) = if slab.dir_neg[n.axis()] { (first + 1, first) } else { (first, first + 1) };
+                    let (near, far) = if slab.dir_neg.get(n.axis()).copied().unwrap_or(false) { (first + 1, first) } else { (first, first + 1) };
                     *slot = far;
                     sp += 1;
                     node = near;
@@ -147,7 +147,11 @@ fn walk<S: Scalar, const W: usize>(
             return;
         }
         sp -= 1;
-        node = stack[sp];
+        // (`get`, not indexing: the render path has no panic path.)
+        match stack.get(sp) {
+            Some(&next) => node = next,
+            None => return,
+        }
     }
 }
 
@@ -257,11 +261,15 @@ impl<'a, S: Scalar> BvhView<'a, S> {
             return scene.transmittance_brute_force(ray, t_min, t_max, active);
         }
         // Apply the factors in primitive order, as brute force does.
-        let records = &mut records[..recorded];
+        // (Checked slicing and access: the render path has no panic path.)
+        let records = records.get_mut(..recorded).unwrap_or(&mut []);
         for i in 1..records.len() {
             let mut j = i;
-            while j > 0 && records[j - 1].0 > records[j].0 {
-                records.swap(j - 1, j);
+            while j > 0 {
+                match records.get_mut(j - 1..=j) {
+                    Some([a, b]) if a.0 > b.0 => core::mem::swap(a, b),
+                    _ => break,
+                }
                 j -= 1;
             }
         }

@@ -28,6 +28,42 @@ use raypack::trace::{DepthError, TraceSettings, Tracer};
 use raypack::Scalar;
 
 pub use raypack::demo::DemoScene;
+pub use raypack::Fixed;
+
+/// Memory for one demo scene, of either scalar: a board that renders with
+/// `f32` and then with [`Fixed`] reuses the same bytes (as big as the larger
+/// scene) instead of holding both. Meant to live in a `static`, so the scene
+/// is built where it lies and never copied on the stack.
+pub union SceneSlot {
+    f32: core::mem::ManuallyDrop<DemoScene<f32>>,
+    fixed: core::mem::ManuallyDrop<DemoScene<Fixed>>,
+}
+
+impl SceneSlot {
+    /// A slot holding an empty `f32` scene.
+    pub const fn new() -> Self {
+        SceneSlot { f32: core::mem::ManuallyDrop::new(DemoScene::new()) }
+    }
+    /// Empties the slot as an `f32` scene and returns it (any previous
+    /// scene is forgotten; scenes own no resources).
+    pub fn empty_f32(&mut self) -> &mut DemoScene<f32> {
+        self.f32 = core::mem::ManuallyDrop::new(DemoScene::new());
+        // SAFETY: the `f32` field was written just above.
+        unsafe { &mut self.f32 }
+    }
+    /// Empties the slot as a [`Fixed`] scene and returns it.
+    pub fn empty_fixed(&mut self) -> &mut DemoScene<Fixed> {
+        self.fixed = core::mem::ManuallyDrop::new(DemoScene::new());
+        // SAFETY: the `fixed` field was written just above.
+        unsafe { &mut self.fixed }
+    }
+}
+
+impl Default for SceneSlot {
+    fn default() -> Self {
+        Self::new()
+    }
+}
 
 /// Image width rendered by every firmware.
 pub const IMAGE_WIDTH: u32 = 160;
@@ -76,6 +112,21 @@ pub fn render_demo<S: Scalar, const W: usize>(scene: &mut DemoScene<S>, band: &m
     let tracer: Tracer<'_, S> = Tracer::new(scene.view(), TraceSettings::default()).map_err(Failure::Depth)?;
     let renderer = Renderer::new(tracer, camera);
     renderer.checksums::<W>(band).map_err(Failure::Buffer)
+}
+
+/// [`render_demo`], then [`report_render`] (or [`report_failure`]) under the
+/// name `scalar`; returns whether the render ran.
+pub fn run<S: Scalar, const W: usize>(c: &mut impl Console, scalar: &str, scene: &mut DemoScene<S>, band: &mut [Rgb8]) -> bool {
+    match render_demo::<S, W>(scene, band) {
+        Ok(r) => {
+            report_render(c, scalar, W, &r);
+            true
+        }
+        Err(e) => {
+            report_failure(c, scalar, &e);
+            false
+        }
+    }
 }
 
 /// Identity of a firmware run, printed first.

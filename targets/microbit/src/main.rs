@@ -1,10 +1,12 @@
 //! raypack on a Cortex-M0 with 16 KiB of RAM (QEMU `microbit`): the demo
-//! scene at 160×128 in soft-float single precision, one ray at a time
-//! (width 1), one image row per band, reported over semihosting.
+//! scene at 160×128 in soft-float single precision and then in 32.32 fixed
+//! point, one ray at a time (width 1), one image row per band, reported over
+//! semihosting.
 //!
-//! Memory: the scene is built in place in a `static` (never copied on the
-//! stack), the band is one row (480 bytes); statics and the stack together
-//! must fit in the 16 KiB, and the report says how much of it they took.
+//! Memory: each scene is built in place in one `static` slot (never copied
+//! on the stack; the fixed-point scene reuses the f32 scene's bytes), the
+//! band is one row (480 bytes); statics and the stack together must fit in
+//! the 16 KiB, and the report says how much of it they took.
 #![no_std]
 #![no_main]
 
@@ -12,14 +14,14 @@ use core::ptr::{addr_of, addr_of_mut};
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 use cortex_m_semihosting::{debug, hio};
 use raypack::render::Rgb8;
-use raypack_firmware_common::{self as fw, stack, Console, DemoScene};
+use raypack_firmware_common::{self as fw, stack, Console, Fixed, SceneSlot};
 
 /// Packet width: the scalar path (no SIMD, and the smallest stack).
 const WIDTH: usize = 1;
 /// Rows per band.
 const BAND_ROWS: usize = 1;
 
-static mut SCENE: DemoScene<f32> = DemoScene::new();
+static mut SCENE: SceneSlot = SceneSlot::new();
 static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
 
 extern "C" {
@@ -64,22 +66,11 @@ fn main() -> ! {
     fw::report_start(&mut con, &fw::Board { name: "microbit", cpu: "cortex-m0 (soft-float f32)" });
 
     // SAFETY: the only references to these statics, taken once.
-    let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let result = fw::render_demo::<f32, WIDTH>(scene, band);
-    let ok = match &result {
-        Ok(r) => {
-            fw::report_render(&mut con, "f32", WIDTH, r);
-            true
-        }
-        Err(e) => {
-            fw::report_failure(&mut con, "f32", e);
-            false
-        }
-    };
-    // Hook for the fixed-point scalar (once it is in the core): render the
-    // same scene again with it, reusing the scene's memory, e.g.
-    // `fw::render_demo::<Fixed, WIDTH>(fixed_scene, band)` and
-    // `fw::report_render(&mut con, "fixed", WIDTH, r)`.
+    let (slot, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
+    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, "f32", slot.empty_f32(), band);
+    // The same scene again in 32.32 fixed point, in the same memory.
+    let ok_fixed = fw::run::<Fixed, WIDTH>(&mut con, "fixed", slot.empty_fixed(), band);
+    let ok = ok_f32 && ok_fixed;
 
     // SAFETY: `[bottom, top)` is the painted stack region.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };

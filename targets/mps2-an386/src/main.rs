@@ -85,17 +85,7 @@ fn main() -> ! {
 
     // SAFETY: the only references to these statics, taken once.
     let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let result = fw::render_demo::<f32, WIDTH>(scene, band);
-    let ok = match &result {
-        Ok(r) => {
-            fw::report_render(&mut con, "f32", WIDTH, r);
-            true
-        }
-        Err(e) => {
-            fw::report_failure(&mut con, "f32", e);
-            false
-        }
-    };
+    let ok = fw::run::<f32, WIDTH>(&mut con, "f32", scene, band);
 
     // SAFETY: `[bottom, top)` is the painted stack window.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };

@@ -1,12 +1,12 @@
 //! raypack on RV32IMAC (QEMU riscv32 `virt`, `-bios none`): the demo scene
-//! at 160×128 in soft-float single precision, 4-wide packets, band by band,
-//! reported over semihosting.
+//! at 160×128 in soft-float single precision and then in 32.32 fixed point,
+//! 4-wide packets, band by band, reported over semihosting.
 #![no_std]
 #![no_main]
 
 use core::ptr::{addr_of, addr_of_mut};
 use raypack::render::Rgb8;
-use raypack_firmware_common::{self as fw, stack, Console, DemoScene};
+use raypack_firmware_common::{self as fw, stack, Console, Fixed, SceneSlot};
 use riscv_semihosting::{debug, hio};
 
 /// Packet width.
@@ -16,7 +16,7 @@ const BAND_ROWS: usize = 2;
 /// Bytes of stack painted and watched (the stack region is most of 16 MiB).
 const STACK_WINDOW: usize = 64 * 1024;
 
-static mut SCENE: DemoScene<f32> = DemoScene::new();
+static mut SCENE: SceneSlot = SceneSlot::new();
 static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
 
 extern "C" {
@@ -62,21 +62,11 @@ fn main() -> ! {
     fw::report_start(&mut con, &fw::Board { name: "riscv-virt", cpu: "rv32imac (soft-float f32)" });
 
     // SAFETY: the only references to these statics, taken once.
-    let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let result = fw::render_demo::<f32, WIDTH>(scene, band);
-    let ok = match &result {
-        Ok(r) => {
-            fw::report_render(&mut con, "f32", WIDTH, r);
-            true
-        }
-        Err(e) => {
-            fw::report_failure(&mut con, "f32", e);
-            false
-        }
-    };
-    // Hook for the fixed-point scalar (once it is in the core): render the
-    // same scene again with it, e.g. `fw::render_demo::<Fixed, WIDTH>(..)`
-    // and `fw::report_render(&mut con, "fixed", WIDTH, r)`.
+    let (slot, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
+    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, "f32", slot.empty_f32(), band);
+    // The same scene again in 32.32 fixed point, in the same memory.
+    let ok_fixed = fw::run::<Fixed, WIDTH>(&mut con, "fixed", slot.empty_fixed(), band);
+    let ok = ok_f32 && ok_fixed;
 
     // SAFETY: `[bottom, top)` is the painted stack window.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
