@@ -13,9 +13,9 @@ use raypack::prelude::*;
 use std::path::Path;
 
 /// What a command does with a loaded scene.
-pub struct Loaded<'a> {
+pub struct Loaded<'a, S = f32> {
     /// The scene.
-    pub view: SceneView<'a, f32>,
+    pub view: SceneView<'a, S>,
     /// Camera, background and counts from the file.
     pub info: NffInfo,
     /// Zero-area polygons (kept, never hit).
@@ -34,21 +34,21 @@ fn fits(c: &NffCounts, p: usize, v: usize, m: usize, l: usize) -> bool {
     c.primitives() <= p && c.vertices <= v && c.materials <= m && c.lights <= l
 }
 
-/// Loads into a `Scene<f32, P, V, M, L>` on a thread with room for it and
+/// Loads into a `Scene<S, P, V, M, L>` on a thread with room for it and
 /// runs `f` there.
-fn load_in<const P: usize, const V: usize, const M: usize, const L: usize, T: Send>(
+fn load_in<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize, T: Send>(
     path: &Path,
     text: &str,
-    f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync),
+    f: &(dyn Fn(Loaded<'_, S>) -> Result<T, Failure> + Sync),
 ) -> Result<T, Failure> {
     // Twice the scene: an unoptimized build may build it in a temporary first.
-    let stack = 2 * std::mem::size_of::<Scene<f32, P, V, M, L>>() + (32 << 20);
+    let stack = 2 * std::mem::size_of::<Scene<S, P, V, M, L>>() + (32 << 20);
     std::thread::scope(|s| {
         let worker = std::thread::Builder::new()
             .name("raypack-scene".into())
             .stack_size(stack)
             .spawn_scoped(s, || {
-                let mut scene = Scene::<f32, P, V, M, L>::new();
+                let mut scene = Scene::<S, P, V, M, L>::new();
                 let info = nff::parse(text, &mut scene).map_err(|e| Failure(format!("{}: {e}", path.display())))?;
                 f(Loaded { view: scene.view(), info, degenerate: scene.degenerate_polygons(), capacity: (P, V, M, L) })
             })
@@ -58,18 +58,18 @@ fn load_in<const P: usize, const V: usize, const M: usize, const L: usize, T: Se
 }
 
 /// Reads `path` into the smallest capacity tier that holds it and runs `f`
-/// on the scene.
-pub fn with_scene<T: Send>(path: &Path, f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync)) -> Result<T, Failure> {
+/// on the scene, with scalar `S` (`f32` or [`Fixed`]).
+pub fn with_scene<S: Scalar, T: Send>(path: &Path, f: &(dyn Fn(Loaded<'_, S>) -> Result<T, Failure> + Sync)) -> Result<T, Failure> {
     let text = read_text(path)?;
     let counts = nff::scan(&text).map_err(|e| Failure(format!("{}: {e}", path.display())))?.counts;
     if fits(&counts, 1 << 10, 1 << 13, 256, 64) {
-        load_in::<{ 1 << 10 }, { 1 << 13 }, 256, 64, T>(path, &text, f)
+        load_in::<S, { 1 << 10 }, { 1 << 13 }, 256, 64, T>(path, &text, f)
     } else if fits(&counts, 1 << 14, 1 << 17, 1024, 256) {
-        load_in::<{ 1 << 14 }, { 1 << 17 }, 1024, 256, T>(path, &text, f)
+        load_in::<S, { 1 << 14 }, { 1 << 17 }, 1024, 256, T>(path, &text, f)
     } else if fits(&counts, 1 << 18, 1 << 21, 16384, 4096) {
-        load_in::<{ 1 << 18 }, { 1 << 21 }, 16384, 4096, T>(path, &text, f)
+        load_in::<S, { 1 << 18 }, { 1 << 21 }, 16384, 4096, T>(path, &text, f)
     } else {
         // The largest tier; beyond it the reader reports the capacity error.
-        load_in::<{ 1 << 20 }, { 1 << 23 }, 65536, 16384, T>(path, &text, f)
+        load_in::<S, { 1 << 20 }, { 1 << 23 }, 65536, 16384, T>(path, &text, f)
     }
 }
