@@ -201,3 +201,32 @@ fn bvh_by_default_and_accel_none_give_the_same_bytes() {
     let o = raypack(&["render", &scene("balls-1.nff"), "-o", out.to_str().unwrap(), "--accel", "kd"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+fn scalar_fixed_renders_close_to_f32_and_rejects_out_of_range_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["--width", "32", "--height", "32"];
+    let f = render(dir.path(), "f.ppm", &scene("balls-1.nff"), &args);
+    let x1 = render(dir.path(), "x1.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed", "--packet", "1", "-j", "1"]].concat());
+    let x8 = render(dir.path(), "x8.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed", "--packet", "8", "-j", "3"]].concat());
+    // Bit-identical across packet widths and thread counts.
+    assert_eq!(x1, x8);
+    // Close to f32: PSNR computed over the pixel bytes (header is equal).
+    assert_eq!(f.len(), x1.len());
+    let se: f64 = f.iter().zip(&x1).map(|(a, b)| (*a as f64 - *b as f64).powi(2)).sum();
+    let mse = se / f.len() as f64;
+    assert!(mse == 0.0 || 10.0 * (255.0f64 * 255.0 / mse).log10() >= 35.0, "MSE {mse}");
+    // A scene beyond the fixed-point range: a one-line error, no file; f32 renders it.
+    let far = dir.path().join("far.nff");
+    std::fs::write(&far, "v\nfrom 0 -9000 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 0.1\nresolution 8 8\nl 0 0 10\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
+    let far_s = far.to_string_lossy().into_owned();
+    let out = dir.path().join("far.ppm");
+    let out_s = out.to_string_lossy().into_owned();
+    let o = raypack(&["render", &far_s, "-o", &out_s, "--quiet", "--scalar", "fixed"]);
+    assert!(!o.status.success());
+    let msg = stderr(&o);
+    assert!(msg.contains("fixed-point"), "{msg}");
+    assert_eq!(msg.trim().lines().count(), 1, "{msg}");
+    assert!(!out.exists());
+    assert!(raypack(&["render", &far_s, "-o", &out_s, "--quiet"]).status.success());
+}

@@ -6,7 +6,7 @@ use raypack::primitives::ShapeKind;
 use std::path::Path;
 
 pub fn run(path: &Path) -> Result<(), Failure> {
-    let text = load::with_scene_accel(path, true, &|s| {
+    let text = load::with_scene::<f32, _>(path, true, &|s| {
         let c = s.info.counts;
         let mut out = String::new();
         let mut line = |t: String| {

@@ -16,9 +16,9 @@ use raypack::prelude::*;
 use std::path::Path;
 
 /// What a command does with a loaded scene.
-pub struct Loaded<'a> {
+pub struct Loaded<'a, S = f32> {
     /// The scene.
-    pub view: SceneView<'a, f32>,
+    pub view: SceneView<'a, S>,
     /// Camera, background and counts from the file.
     pub info: NffInfo,
     /// Zero-area polygons (kept, never hit).
@@ -39,30 +39,30 @@ fn fits(c: &NffCounts, p: usize, v: usize, m: usize, l: usize) -> bool {
     c.primitives() <= p && c.vertices <= v && c.materials <= m && c.lights <= l
 }
 
-/// Loads into a `Scene<f32, P, V, M, L>` on a thread with room for it and
+/// Loads into a `Scene<S, P, V, M, L>` on a thread with room for it and
 /// runs `f` there.
-fn load_in<const P: usize, const V: usize, const M: usize, const L: usize, T: Send>(
+fn load_in<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize, T: Send>(
     path: &Path,
     text: &str,
     accel: bool,
-    f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync),
+    f: &(dyn Fn(Loaded<'_, S>) -> Result<T, Failure> + Sync),
 ) -> Result<T, Failure> {
     // Twice the scene (and tree): an unoptimized build may build them in a
     // temporary first.
-    let tree = if accel { std::mem::size_of::<Bvh<f32, P>>() } else { 0 };
-    let stack = 2 * (std::mem::size_of::<Scene<f32, P, V, M, L>>() + tree) + (32 << 20);
+    let tree = if accel { std::mem::size_of::<Bvh<S, P>>() } else { 0 };
+    let stack = 2 * (std::mem::size_of::<Scene<S, P, V, M, L>>() + tree) + (32 << 20);
     std::thread::scope(|s| {
         let worker = std::thread::Builder::new()
             .name("raypack-scene".into())
             .stack_size(stack)
             .spawn_scoped(s, || {
-                let mut scene = Scene::<f32, P, V, M, L>::new();
+                let mut scene = Scene::<S, P, V, M, L>::new();
                 let info = nff::parse(text, &mut scene).map_err(|e| Failure(format!("{}: {e}", path.display())))?;
                 let loaded = |view, bvh| Loaded { view, info, degenerate: scene.degenerate_polygons(), capacity: (P, V, M, L), bvh };
                 if !accel {
                     return f(loaded(scene.view(), None));
                 }
-                let mut bvh = Bvh::<f32, P>::new();
+                let mut bvh = Bvh::<S, P>::new();
                 // Pad the boxes for rays that start as far out as the eye.
                 let reach = info.camera.map_or(0.0, |c| c.from.iter().fold(0.0f32, |m, v| m.max(v.abs())));
                 let start = std::time::Instant::now();
@@ -75,24 +75,20 @@ fn load_in<const P: usize, const V: usize, const M: usize, const L: usize, T: Se
     })
 }
 
-/// Reads `path` into the smallest capacity tier that holds it and runs `f`
-/// on the scene (brute force: no tree).
-pub fn with_scene<T: Send>(path: &Path, f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync)) -> Result<T, Failure> {
-    with_scene_accel(path, false, f)
-}
-
-/// [`with_scene`], with a BVH built and attached to the view when `accel`.
-pub fn with_scene_accel<T: Send>(path: &Path, accel: bool, f: &(dyn Fn(Loaded<'_>) -> Result<T, Failure> + Sync)) -> Result<T, Failure> {
+/// Reads `path` into the smallest capacity tier that holds it, with scalar
+/// `S` (`f32` or [`Fixed`]), builds a BVH over it when `accel`, and runs `f`
+/// on the scene.
+pub fn with_scene<S: Scalar, T: Send>(path: &Path, accel: bool, f: &(dyn Fn(Loaded<'_, S>) -> Result<T, Failure> + Sync)) -> Result<T, Failure> {
     let text = read_text(path)?;
     let counts = nff::scan(&text).map_err(|e| Failure(format!("{}: {e}", path.display())))?.counts;
     if fits(&counts, 1 << 10, 1 << 13, 256, 64) {
-        load_in::<{ 1 << 10 }, { 1 << 13 }, 256, 64, T>(path, &text, accel, f)
+        load_in::<S, { 1 << 10 }, { 1 << 13 }, 256, 64, T>(path, &text, accel, f)
     } else if fits(&counts, 1 << 14, 1 << 17, 1024, 256) {
-        load_in::<{ 1 << 14 }, { 1 << 17 }, 1024, 256, T>(path, &text, accel, f)
+        load_in::<S, { 1 << 14 }, { 1 << 17 }, 1024, 256, T>(path, &text, accel, f)
     } else if fits(&counts, 1 << 18, 1 << 21, 16384, 4096) {
-        load_in::<{ 1 << 18 }, { 1 << 21 }, 16384, 4096, T>(path, &text, accel, f)
+        load_in::<S, { 1 << 18 }, { 1 << 21 }, 16384, 4096, T>(path, &text, accel, f)
     } else {
         // The largest tier; beyond it the reader reports the capacity error.
-        load_in::<{ 1 << 20 }, { 1 << 23 }, 65536, 16384, T>(path, &text, accel, f)
+        load_in::<S, { 1 << 20 }, { 1 << 23 }, 65536, 16384, T>(path, &text, accel, f)
     }
 }

@@ -34,6 +34,15 @@ enum Command {
     },
 }
 
+/// Number type the tracer computes with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ScalarArg {
+    /// 32-bit IEEE float.
+    F32,
+    /// 32.32 fixed point (`raypack::Fixed`).
+    Fixed,
+}
+
 /// Packet width: rays traced together.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum Packet {
@@ -110,6 +119,9 @@ struct RenderArgs {
     /// Acceleration structure (`none`: brute force; the image is the same).
     #[arg(long, value_enum, default_value = "bvh")]
     accel: AccelArg,
+    /// Number type: 32-bit float, or 32.32 fixed point (for FPU-less targets).
+    #[arg(long, value_enum, default_value = "f32")]
+    scalar: ScalarArg,
     /// No progress bar, warnings or summary (errors are still reported).
     #[arg(short, long)]
     quiet: bool,

@@ -8,7 +8,7 @@
 
 use crate::load::{self, Loaded};
 use crate::output::PendingImage;
-use crate::{AccelArg, AovArg, Failure, ModeArg, Packet, RenderArgs};
+use crate::{AccelArg, AovArg, Failure, ModeArg, Packet, RenderArgs, ScalarArg};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use raypack::prelude::*;
 use rayon::prelude::*;
@@ -38,7 +38,10 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     // Fails now (before rendering) on a bad extension or an unwritable place.
     let image = PendingImage::create(&args.output)?;
     let accel = args.accel == AccelArg::Bvh;
-    let r = load::with_scene_accel(&args.scene, accel, &|scene| render_scene(args, scene))?;
+    let r = match args.scalar {
+        ScalarArg::F32 => load::with_scene::<f32, _>(&args.scene, accel, &|scene| render_scene(args, scene))?,
+        ScalarArg::Fixed => load::with_scene::<Fixed, _>(&args.scene, accel, &|scene| render_scene(args, scene))?,
+    };
     image.finish(r.width, r.height, &r.pixels)?;
     if !args.quiet {
         let s = &r.stats;
@@ -105,11 +108,13 @@ fn tiles(width: u32, height: u32) -> Vec<Rect> {
     out
 }
 
-fn render_scene(args: &RenderArgs, scene: Loaded<'_>) -> Result<Rendered, Failure> {
+fn render_scene<S: Scalar>(args: &RenderArgs, scene: Loaded<'_, S>) -> Result<Rendered, Failure> {
     let path = args.scene.display();
     let cam = scene.info.camera.ok_or_else(|| Failure(format!("{path}: the scene has no `v` block (camera)")))?;
     let (width, height) = image_size(args, (cam.width, cam.height));
-    let camera = cam.camera::<f32>(width, height).map_err(|e| Failure(format!("{path}: {e}")))?;
+    let camera = cam.camera::<S>(width, height).map_err(|e| Failure(format!("{path}: {e}")))?;
+    // Fixed point: the whole scene must fit its range (a no-op for f32).
+    check_scene(&scene.view, &camera).map_err(|e| Failure(format!("{path}: {e}")))?;
     let settings = TraceSettings {
         mode: match args.mode {
             ModeArg::Cast => Mode::Cast,
@@ -118,7 +123,7 @@ fn render_scene(args: &RenderArgs, scene: Loaded<'_>) -> Result<Rendered, Failur
         max_depth: args.depth,
         ..TraceSettings::default()
     };
-    let tracer: Tracer<'_, f32, { MAX_DEPTH as usize }> = Tracer::new(scene.view, settings)?;
+    let tracer: Tracer<'_, S, { MAX_DEPTH as usize }> = Tracer::new(scene.view, settings)?;
     let mut renderer = Renderer::new(tracer, camera);
     renderer.aov = match args.aov {
         AovArg::Color => Aov::Color,
