@@ -161,7 +161,7 @@ impl<S: Scalar> Camera<S> {
     /// The packet of primary rays whose top-left pixel is `(x, y)`, laid out
     /// as [`packet_shape`]`(W)`; lanes whose pixel falls outside `clip` (or
     /// the image) are inactive in the returned mask.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn packet<const W: usize>(&self, x: u32, y: u32, clip: Rect) -> (RayPacket<S, W>, Mask<W>) {
         let (pw, _) = packet_shape(W);
         let mut sx = Lanes::<S, W>::zero();

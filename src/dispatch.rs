@@ -8,6 +8,10 @@
 //! Everything on the render path, from [`Renderer::render_rect`] down to the
 //! primitive kernels, is `#[inline(always)]`, so LLVM inlines it into the
 //! entry point and compiles it there with `ymm` (or `zmm`) registers.
+//! In builds with debug assertions (the test profile) those attributes are
+//! plain `#[inline]` hints instead: inlining the whole tracer everywhere
+//! made the tests take most of CI's time to compile. The bytes are the same
+//! either way; `scripts/check-asm.sh` checks the release machine code.
 //!
 //! # Determinism
 //! The AVX2 copy enables only `avx2` (which implies `avx`), not `fma`. The
@@ -175,7 +179,7 @@ struct RenderRect<'r, 'a, 'o, 's, S, const D: usize, const W: usize> {
 
 impl<S: Scalar, const D: usize, const W: usize> IsaKernel for RenderRect<'_, '_, '_, '_, S, D, W> {
     type Output = Result<(), BufferTooSmall>;
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn run(self) -> Self::Output {
         self.renderer.render_rect::<W>(self.rect, self.out, self.stats)
     }

@@ -63,7 +63,7 @@ impl core::fmt::Display for Fixed {
 }
 
 /// Clamps a wide intermediate to the representable range.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 const fn saturate(v: i128) -> i64 {
     if v > RAW_MAX as i128 {
         RAW_MAX
@@ -77,17 +77,17 @@ const fn saturate(v: i128) -> i64 {
 impl Fixed {
     /// The number whose raw two's-complement bits are `raw` (value
     /// `raw·2⁻³²`); `i64::MIN` becomes `−MAX`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub const fn from_bits(raw: i64) -> Self {
         Fixed(I32F32::from_bits(if raw == i64::MIN { RAW_MIN } else { raw }))
     }
     /// The raw bits (value `raw·2⁻³²`).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub const fn to_bits(self) -> i64 {
         self.0.to_bits()
     }
     /// The underlying `fixed` crate value.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub const fn to_i32f32(self) -> I32F32 {
         self.0
     }
@@ -121,7 +121,7 @@ impl From<Fixed> for I32F32 {
 
 impl Add for Fixed {
     type Output = Self;
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn add(self, o: Self) -> Self {
         Fixed::from_bits(self.to_bits().saturating_add(o.to_bits()))
     }
@@ -129,7 +129,7 @@ impl Add for Fixed {
 
 impl Sub for Fixed {
     type Output = Self;
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn sub(self, o: Self) -> Self {
         Fixed::from_bits(self.to_bits().saturating_sub(o.to_bits()))
     }
@@ -137,7 +137,7 @@ impl Sub for Fixed {
 
 impl Neg for Fixed {
     type Output = Self;
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn neg(self) -> Self {
         // Raw values lie in [−MAX, MAX], so this never overflows; saturating
         // anyway costs nothing and keeps the operation total.
@@ -223,7 +223,7 @@ const EXP2_TABLE: [u64; 32] = [
 const Q62_ONE: u64 = 1 << 62;
 
 /// Product of two unsigned 1.62 numbers below 4, rounded to nearest.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn mul_q62(a: u64, b: u64) -> u64 {
     let p = a as u128 * b as u128;
     ((p + (1u128 << 61)) >> 62) as u64
@@ -285,7 +285,7 @@ impl Scalar for Fixed {
     fn from_f32(v: f32) -> Self {
         Fixed::from_f64(v as f64)
     }
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn from_i32(v: i32) -> Self {
         Fixed::from_bits((v as i64) << FRAC)
     }
@@ -321,16 +321,16 @@ impl Scalar for Fixed {
         let z = e * Fixed::from_bits(log2_unit(x as u64));
         Fixed::from_bits(exp2_nonpositive(z.to_bits()))
     }
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn floor_to_i32(self) -> i32 {
         // An arithmetic shift floors; the result always fits an i32.
         (self.to_bits() >> FRAC) as i32
     }
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn is_finite(self) -> bool {
         true
     }
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn abs(self) -> Self {
         Fixed::from_bits(self.to_bits().saturating_abs())
     }

@@ -73,7 +73,7 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
     /// Renders the pixels of `rect` (clipped to the image) with packets of
     /// width `W` into `out`, row-major with row stride `rect.w`. Ray counts
     /// are added to `stats`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn render_rect<const W: usize>(&self, rect: Rect, out: &mut [Rgb8], stats: &mut RayStats) -> Result<(), BufferTooSmall> {
         // Saturating (a 32-bit usize can overflow): an impossible size is
         // simply larger than any buffer.
@@ -109,7 +109,7 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
     }
 
     /// The pixels of one packet of primary rays.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn shade_packet<const W: usize>(&self, ray: &crate::ray::RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> [Rgb8; W] {
         let mut px = [[0u8; 3]; W];
         match self.aov {

@@ -504,7 +504,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
         self.background
     }
     /// The material of primitive `prim`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn material_of(&self, prim: u32) -> Material<S> {
         self.prims
             .get(prim as usize)
@@ -529,7 +529,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
     /// Ties (two primitives at exactly the same distance) go to the lower
     /// primitive index, whatever the packet width. Goes through the BVH when
     /// one is attached; the result is the same bits either way.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn closest_hit<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
@@ -545,7 +545,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
 
     /// [`SceneView::closest_hit`] testing every primitive in index order
     /// (the reference the BVH must match).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn closest_hit_brute_force<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
@@ -584,7 +584,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
     /// object's `Kt` (an opaque object stops it; a glass sphere gives `Kt²`).
     /// Inactive lanes return 0. Goes through the BVH when one is attached;
     /// the result is the same bits either way.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn transmittance<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
@@ -600,7 +600,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
 
     /// [`SceneView::transmittance`] testing every primitive in index order
     /// (the reference the BVH must match).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn transmittance_brute_force<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,

@@ -159,7 +159,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
 
     /// Surface data at the closest hits of `ray` (lanes outside `hit.mask`
     /// hold zeros).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn surface<const W: usize>(&self, ray: &RayPacket<S, W>, hit: &Hit<S, W>) -> SurfacePacket<S, W> {
         let point = ray.at(hit.t);
         let zero = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
@@ -194,7 +194,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
 
     /// Traces a packet of rays (unit directions) and returns the linear
     /// colour of each active lane (zero elsewhere).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn trace<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
         let zero = Lanes::<S, W>::zero();
         let mut color = Vec3::new(zero, zero, zero);
@@ -247,7 +247,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
 
     /// Local shading (ambient, diffuse, Phong highlight) of the hit lanes,
     /// with shadow rays in Whitted mode.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn local<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
@@ -303,7 +303,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
     }
 
     /// Pushes the reflected and refracted packets of a hit packet.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn spawn<const W: usize>(
         &self,
         p: &Pending<S, W>,
@@ -382,7 +382,7 @@ struct Materials<S, const W: usize> {
 }
 
 impl<S: Scalar, const W: usize> Materials<S, W> {
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn gather(scene: &SceneView<'_, S>, hit: &Hit<S, W>) -> Self {
         let z = Lanes::zero();
         let mut m = Materials {

@@ -80,23 +80,23 @@ impl<S: Scalar> BvhNode<S> {
     const EMPTY: Self = BvhNode { min: Vec3::ZERO, max: Vec3::ZERO, link: 0, meta: 0 };
 
     /// Number of primitives of a leaf; 0 for an interior node.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn leaf_count(&self) -> u32 {
         self.meta >> 2
     }
     /// Whether the node is a leaf.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn is_leaf(&self) -> bool {
         self.leaf_count() != 0
     }
     /// Leaf: index of its first entry in the order array; interior: flat
     /// index of its first child.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn link(&self) -> u32 {
         self.link
     }
     /// Split axis of an interior node (0 = x, 1 = y, 2 = z).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn axis(&self) -> usize {
         (self.meta & AXIS_MASK) as usize
     }

@@ -42,7 +42,7 @@ struct SlabRays<S, const W: usize> {
 }
 
 impl<S: Scalar, const W: usize> SlabRays<S, W> {
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn new(ray: &RayPacket<S, W>, active: Mask<W>) -> Self {
         // A zero direction component would give 0·∞ = NaN at a slab plane
         // through the origin; replace |d| < 2⁻⁶⁰ by ±2⁻⁶⁰, which moves the
@@ -66,7 +66,7 @@ impl<S: Scalar, const W: usize> SlabRays<S, W> {
     }
 
     /// Lanes of `active` whose segment `[t_min, t_far]` meets the box.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn hits(&self, node: &BvhNode<S>, t_min: Lanes<S, W>, t_far: Lanes<S, W>, active: Mask<W>) -> Mask<W> {
         let x0 = (Lanes::splat(node.min.x) - self.origin.x) * self.inv_dir.x;
         let x1 = (Lanes::splat(node.max.x) - self.origin.x) * self.inv_dir.x;
@@ -82,7 +82,7 @@ impl<S: Scalar, const W: usize> SlabRays<S, W> {
 
 /// `t` a little beyond `best` where `found` (so that roots equal to `best`
 /// come back), `best` elsewhere.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn tie_limit<S: Scalar, const W: usize>(best: Lanes<S, W>, found: Mask<W>) -> Lanes<S, W> {
     // best·(1 + 2⁻²²) is at least two ulps above a normal `best`; the
     // smallest normal covers subnormal ones.
@@ -92,7 +92,7 @@ fn tie_limit<S: Scalar, const W: usize>(best: Lanes<S, W>, found: Mask<W>) -> La
 }
 
 /// Lanes where `k` is below the current best index.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn index_below<const W: usize>(k: u32, best: &[u32; W]) -> Mask<W> {
     let mut m = [false; W];
     for i in 0..W {
@@ -105,7 +105,7 @@ fn index_below<const W: usize>(k: u32, best: &[u32; W]) -> Mask<W> {
 /// child first; `far()` is re-read at every node so that closer hits prune
 /// the rest. `visit` gets each leaf's primitives with the lanes that reach
 /// the leaf and returns `false` to stop.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn walk<S: Scalar, const W: usize>(
     bvh: &BvhView<'_, S>,
     slab: &SlabRays<S, W>,
@@ -157,7 +157,7 @@ fn walk<S: Scalar, const W: usize>(
 
 impl<'a, S: Scalar> BvhView<'a, S> {
     /// [`SceneView::closest_hit`] through the tree.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn closest_hit<const W: usize>(
         &self,
         scene: &SceneView<'a, S>,
@@ -200,7 +200,7 @@ impl<'a, S: Scalar> BvhView<'a, S> {
     }
 
     /// [`SceneView::transmittance`] through the tree.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn transmittance<const W: usize>(
         &self,
         scene: &SceneView<'a, S>,

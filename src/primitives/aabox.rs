@@ -91,7 +91,7 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
 ///
 /// A function rather than a closure so that it is inlined (and compiled for
 /// the instruction set of the caller; see `dispatch`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn slab_axis<S: Scalar, const W: usize>(o: Lanes<S, W>, d: Lanes<S, W>, lo: S, hi: S) -> (Lanes<S, W>, Lanes<S, W>) {
     let big = Lanes::splat(S::MAX);
     {

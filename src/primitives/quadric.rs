@@ -292,7 +292,7 @@ fn from_matrix<S: Scalar>(m: Mat4<S>) -> [S; 10] {
 
 /// Lanes whose point lies in the closed box `[lo, hi]`. A function rather
 /// than a closure so that it is always inlined (see `dispatch`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn inside_box<S: Scalar, const W: usize>(p: crate::vec3::Vec3xW<S, W>, lo: Vec3<S>, hi: Vec3<S>) -> Mask<W> {
     p.x.ge(Lanes::splat(lo.x))
         & p.x.le(Lanes::splat(hi.x))
