@@ -107,7 +107,8 @@ fn this_machine_runs_the_avx2_path_if_it_has_avx2() {
     {
         let has = std::is_x86_feature_detected!("avx2");
         assert_eq!(Isa::Avx2.is_available(), has);
-        assert_eq!(Isa::best() == Isa::Avx2, has);
+        // The best copy is AVX2 or, where the CPU also has it, AVX-512.
+        assert_eq!(Isa::best() != Isa::Baseline, has);
         assert_eq!(Isa::Avx2.effective(), if has { Isa::Avx2 } else { Isa::Baseline });
         println!("dispatch test: avx2 detected: {has}");
     }
