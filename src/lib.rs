@@ -43,7 +43,7 @@ pub mod scene;
 pub mod trace;
 pub mod vec3;
 
-/// Run-time instruction-set dispatch (std only; the one module allowed `unsafe`).
+// Run-time instruction-set dispatch (std only; the one module allowed `unsafe`).
 #[cfg(feature = "std")]
 pub mod dispatch;
 
