@@ -47,13 +47,7 @@ impl<S: Scalar, const W: usize> SlabRays<S, W> {
         // A zero direction component would give 0·∞ = NaN at a slab plane
         // through the origin; replace |d| < 2⁻⁶⁰ by ±2⁻⁶⁰, which moves the
         // ray by at most 2⁻⁶⁰·t along that axis, far inside the padding.
-        let tiny = Lanes::splat(S::from_f32(8.673617e-19));
-        let guard = |d: Lanes<S, W>| {
-            let small = d.abs().lt(tiny);
-            let signed = Lanes::select(d.lt(Lanes::zero()), -tiny, tiny);
-            Lanes::splat(S::ONE) / Lanes::select(small, signed, d)
-        };
-        let inv_dir = Vec3xW::new(guard(ray.dir.x), guard(ray.dir.y), guard(ray.dir.z));
+        let inv_dir = Vec3xW::new(guarded_recip(ray.dir.x), guarded_recip(ray.dir.y), guarded_recip(ray.dir.z));
         let mut first = 0;
         for i in 0..W {
             if active.get(i) {
@@ -80,6 +74,17 @@ impl<S: Scalar, const W: usize> SlabRays<S, W> {
     }
 }
 
+/// `1/d` with `|d| < 2⁻⁶⁰` replaced by `±2⁻⁶⁰` (see [`SlabRays::new`]).
+/// (A function, not a closure: closures are not `inline(always)`, and
+/// code left out of line is compiled for the baseline instruction set only.)
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn guarded_recip<S: Scalar, const W: usize>(d: Lanes<S, W>) -> Lanes<S, W> {
+    let tiny = Lanes::splat(S::from_f32(8.673617e-19));
+    let small = d.abs().lt(tiny);
+    let signed = Lanes::select(d.lt(Lanes::zero()), -tiny, tiny);
+    Lanes::splat(S::ONE) / Lanes::select(small, signed, d)
+}
+
 /// `t` a little beyond `best` where `found` (so that roots equal to `best`
 /// come back), `best` elsewhere.
 #[cfg_attr(not(debug_assertions), inline(always))]
@@ -101,17 +106,24 @@ fn index_below<const W: usize>(k: u32, best: &[u32; W]) -> Mask<W> {
     Mask::from_array(m)
 }
 
-/// Visits the leaves whose boxes some lane of `live()` reaches, nearest
-/// child first; `far()` is re-read at every node so that closer hits prune
-/// the rest. `visit` gets each leaf's primitives with the lanes that reach
-/// the leaf and returns `false` to stop.
+/// What a descent does at the leaves: the one tree walk ([`walk`]) serves
+/// closest-hit and shadow queries through this trait. (A trait with
+/// `inline(always)` methods rather than closures: closures cannot be marked
+/// `inline(always)`, and code left out of line is compiled for the baseline
+/// instruction set only, not for the dispatched AVX2/AVX-512 copies.)
+trait LeafVisitor<S, const W: usize> {
+    /// The far end of the segments still of interest, the lanes still
+    /// live, and whether to go on at all.
+    fn state(&self) -> (Lanes<S, W>, Mask<W>, bool);
+    /// Tests primitives `ids` for the lanes `m`.
+    fn leaf(&mut self, ids: &[u32], m: Mask<W>);
+}
+
+/// Visits the leaves whose boxes some lane of the visitor's live lanes
+/// reaches, nearest child first; the visitor's state is re-read at every
+/// node so that closer hits prune the rest and a finished query stops.
 #[cfg_attr(not(debug_assertions), inline(always))]
-fn walk<S: Scalar, const W: usize>(
-    bvh: &BvhView<'_, S>,
-    slab: &SlabRays<S, W>,
-    t_min: Lanes<S, W>,
-    mut state: impl FnMut(Option<(&[u32], Mask<W>)>) -> (Lanes<S, W>, Mask<W>, bool),
-) {
+fn walk<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(bvh: &BvhView<'_, S>, slab: &SlabRays<S, W>, t_min: Lanes<S, W>, visitor: &mut V) {
     if bvh.nodes.is_empty() {
         return;
     }
@@ -121,7 +133,7 @@ fn walk<S: Scalar, const W: usize>(
     let mut sp = 0usize;
     let mut node = 0u32;
     loop {
-        let (t_far, live, go_on) = state(None);
+        let (t_far, live, go_on) = visitor.state();
         if !go_on {
             return;
         }
@@ -129,10 +141,7 @@ fn walk<S: Scalar, const W: usize>(
             let m = slab.hits(n, t_min, t_far, live);
             if m.any() {
                 if n.is_leaf() {
-                    let (_, _, go_on) = state(Some((bvh.leaf_primitives(n), m)));
-                    if !go_on {
-                        return;
-                    }
+                    visitor.leaf(bvh.leaf_primitives(n), m);
                 } else if let Some(slot) = stack.get_mut(sp) {
                     let first = n.link();
                     let (near, far) = if slab.dir_neg.get(n.axis()).copied().unwrap_or(false) { (first + 1, first) } else { (first, first + 1) };
@@ -155,6 +164,96 @@ fn walk<S: Scalar, const W: usize>(
     }
 }
 
+/// Closest-hit query state: per lane the nearest root so far and its
+/// primitive (the lowest index among equal roots, as brute force keeps).
+struct ClosestHit<'q, 'a, S, const W: usize> {
+    scene: &'q SceneView<'a, S>,
+    ray: &'q RayPacket<S, W>,
+    t_min: Lanes<S, W>,
+    active: Mask<W>,
+    best_t: Lanes<S, W>,
+    best_id: [u32; W],
+    found: Mask<W>,
+}
+
+impl<S: Scalar, const W: usize> LeafVisitor<S, W> for ClosestHit<'_, '_, S, W> {
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn state(&self) -> (Lanes<S, W>, Mask<W>, bool) {
+        (self.best_t, self.active, true)
+    }
+
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
+        let prims = self.scene.primitives();
+        let verts = self.scene.vertices();
+        for &k in ids {
+            let Some(p) = prims.get(k as usize) else { continue };
+            let limit = tie_limit(self.best_t, self.found);
+            let (t, hit) = p.shape.roots(verts, self.ray, self.t_min, limit, m).nearest();
+            if hit.none() {
+                continue;
+            }
+            // Nearer, or as near with a lower index (brute force's order).
+            let closer = hit & (t.lt(self.best_t) | (t.eq_lanes(self.best_t) & index_below(k, &self.best_id)));
+            self.best_t = Lanes::select(closer, t, self.best_t);
+            self.best_id = closer.select_u32([k; W], self.best_id);
+            self.found |= closer;
+        }
+    }
+}
+
+/// Shadow query state: lanes not yet blocked by an opaque primitive, and
+/// the transmissive crossings met so far (applied later in index order).
+struct Shadow<'q, 'a, S, const W: usize> {
+    scene: &'q SceneView<'a, S>,
+    ray: &'q RayPacket<S, W>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    live: Mask<W>,
+    /// Transmissive crossings: (primitive, first crossing, second crossing).
+    records: [(u32, Mask<W>, Mask<W>); RECORDS],
+    recorded: usize,
+    /// More transmissive crossings than `records` holds.
+    overflow: bool,
+}
+
+impl<S: Scalar, const W: usize> LeafVisitor<S, W> for Shadow<'_, '_, S, W> {
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn state(&self) -> (Lanes<S, W>, Mask<W>, bool) {
+        (self.t_max, self.live, self.live.any() && !self.overflow)
+    }
+
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
+        let prims = self.scene.primitives();
+        let verts = self.scene.vertices();
+        let materials = self.scene.materials();
+        for &k in ids {
+            // Only the lanes still live.
+            let m = m & self.live;
+            if m.none() {
+                return;
+            }
+            let Some(p) = prims.get(k as usize) else { continue };
+            let r = p.shape.roots(verts, self.ray, self.t_min, self.t_max, m);
+            if r.hit0.none() {
+                continue;
+            }
+            let kt = materials.get(p.material as usize).map(|m| m.kt).unwrap_or(S::ZERO);
+            if kt == S::ZERO {
+                // Opaque: exactly 0 whatever else these lanes cross.
+                self.live = self.live.and_not(r.hit0);
+            } else if let Some(slot) = self.records.get_mut(self.recorded) {
+                *slot = (k, r.hit0, r.hit1);
+                self.recorded += 1;
+            } else {
+                self.overflow = true;
+                return;
+            }
+        }
+    }
+}
+
 impl<'a, S: Scalar> BvhView<'a, S> {
     /// [`SceneView::closest_hit`] through the tree.
     #[cfg_attr(not(debug_assertions), inline(always))]
@@ -166,37 +265,14 @@ impl<'a, S: Scalar> BvhView<'a, S> {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Hit<S, W> {
-        let mut best_t = t_max;
-        let mut best_id = [u32::MAX; W];
-        let mut found = Mask::splat(false);
+        let mut q = ClosestHit { scene, ray, t_min, active, best_t: t_max, best_id: [u32::MAX; W], found: Mask::splat(false) };
         if active.any() {
-            let prims = scene.primitives();
-            let verts = scene.vertices();
-            let test = |ids: &[u32], m: Mask<W>, best_t: &mut Lanes<S, W>, best_id: &mut [u32; W], found: &mut Mask<W>| {
-                for &k in ids {
-                    let Some(p) = prims.get(k as usize) else { continue };
-                    let limit = tie_limit(*best_t, *found);
-                    let (t, hit) = p.shape.roots(verts, ray, t_min, limit, m).nearest();
-                    if hit.none() {
-                        continue;
-                    }
-                    // Nearer, or as near with a lower index (brute force's order).
-                    let closer = hit & (t.lt(*best_t) | (t.eq_lanes(*best_t) & index_below(k, best_id)));
-                    *best_t = Lanes::select(closer, t, *best_t);
-                    *best_id = closer.select_u32([k; W], *best_id);
-                    *found |= closer;
-                }
-            };
-            test(self.unbounded(), active, &mut best_t, &mut best_id, &mut found);
+            // Primitives outside the tree first, then the tree.
+            q.leaf(self.unbounded(), active);
             let slab = SlabRays::new(ray, active);
-            walk(self, &slab, t_min, |leaf| {
-                if let Some((ids, m)) = leaf {
-                    test(ids, m, &mut best_t, &mut best_id, &mut found);
-                }
-                (best_t, active, true)
-            });
+            walk(self, &slab, t_min, &mut q);
         }
-        Hit { t: best_t, prim: best_id, mask: found }
+        Hit { t: q.best_t, prim: q.best_id, mask: q.found }
     }
 
     /// [`SceneView::transmittance`] through the tree.
@@ -213,56 +289,31 @@ impl<'a, S: Scalar> BvhView<'a, S> {
         if active.none() {
             return zero;
         }
-        let prims = scene.primitives();
-        let verts = scene.vertices();
-        let materials = scene.materials();
-        // Transmissive crossings: (primitive, first crossing, second crossing).
-        let mut records = [(0u32, Mask::<W>::splat(false), Mask::<W>::splat(false)); RECORDS];
-        let mut recorded = 0usize;
-        let mut overflow = false;
-        let mut live = active;
-        // Tests primitives `ids` for the lanes `m` (narrowed to the live ones).
-        let mut test = |ids: &[u32], m: Mask<W>, live: &mut Mask<W>, overflow: &mut bool| {
-            for &k in ids {
-                let m = m & *live;
-                if m.none() {
-                    return;
-                }
-                let Some(p) = prims.get(k as usize) else { continue };
-                let r = p.shape.roots(verts, ray, t_min, t_max, m);
-                if r.hit0.none() {
-                    continue;
-                }
-                let kt = materials.get(p.material as usize).map(|m| m.kt).unwrap_or(S::ZERO);
-                if kt == S::ZERO {
-                    // Opaque: exactly 0 whatever else these lanes cross.
-                    *live = live.and_not(r.hit0);
-                } else if let Some(slot) = records.get_mut(recorded) {
-                    *slot = (k, r.hit0, r.hit1);
-                    recorded += 1;
-                } else {
-                    *overflow = true;
-                    return;
-                }
-            }
+        let mut q = Shadow {
+            scene,
+            ray,
+            t_min,
+            t_max,
+            live: active,
+            records: [(0u32, Mask::<W>::splat(false), Mask::<W>::splat(false)); RECORDS],
+            recorded: 0,
+            overflow: false,
         };
-        test(self.unbounded(), live, &mut live, &mut overflow);
-        let slab = SlabRays::new(ray, active);
-        walk(self, &slab, t_min, |leaf| {
-            if let Some((ids, m)) = leaf {
-                test(ids, m, &mut live, &mut overflow);
-            }
-            (t_max, live, live.any() && !overflow)
-        });
+        q.leaf(self.unbounded(), active);
+        if q.live.any() && !q.overflow {
+            let slab = SlabRays::new(ray, active);
+            walk(self, &slab, t_min, &mut q);
+        }
+        let live = q.live;
         if live.none() {
             return zero;
         }
-        if overflow {
+        if q.overflow {
             return scene.transmittance_brute_force(ray, t_min, t_max, active);
         }
         // Apply the factors in primitive order, as brute force does.
         // (Checked slicing and access: the render path has no panic path.)
-        let records = records.get_mut(..recorded).unwrap_or(&mut []);
+        let records = q.records.get_mut(..q.recorded).unwrap_or(&mut []);
         for i in 1..records.len() {
             let mut j = i;
             while j > 0 {
@@ -273,6 +324,8 @@ impl<'a, S: Scalar> BvhView<'a, S> {
                 j -= 1;
             }
         }
+        let prims = scene.primitives();
+        let materials = scene.materials();
         let mut trans = Lanes::select(live, Lanes::splat(S::ONE), zero);
         for &(k, hit0, hit1) in records.iter() {
             let kt = prims
