@@ -16,8 +16,9 @@ if [ "$(uname -m)" != "x86_64" ]; then
 fi
 command -v objdump >/dev/null || { echo "check-asm: objdump missing (apt-get install binutils)" >&2; exit 1; }
 
-cargo build --release --example primary_probe -q
-bin=target/release/examples/primary_probe
+# The shipped binary: the CLI renders every tile through the dispatcher.
+cargo build --release --bin raypack -q
+bin=target/release/raypack
 asm=$(mktemp)
 trap 'rm -f "$asm"' EXIT
 objdump -d --no-show-raw-insn -C "$bin" >"$asm"

@@ -230,3 +230,95 @@ fn scalar_fixed_renders_close_to_f32_and_rejects_out_of_range_scenes() {
     assert!(!out.exists());
     assert!(raypack(&["render", &far_s, "-o", &out_s, "--quiet"]).status.success());
 }
+
+#[test]
+fn every_instruction_set_gives_the_same_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut reference: Option<Vec<u8>> = None;
+    let mut ran = Vec::new();
+    for isa in ["baseline", "avx2", "avx512", "auto"] {
+        for packet in ["1", "8"] {
+            let out = dir.path().join(format!("{isa}-{packet}.ppm"));
+            let o = raypack(&["render", &scene("extensions.nff"), "-o", out.to_str().unwrap(), "--width", "56", "--height", "40", "--isa", isa, "--packet", packet, "-j", "2"]);
+            if !o.status.success() {
+                // Only an ISA this CPU lacks may fail, with a clear message.
+                assert_eq!(o.status.code(), Some(1));
+                assert!(isa.starts_with("avx") && stderr(&o).contains(&format!("this CPU cannot run --isa {isa}")), "{isa}: {}", stderr(&o));
+                continue;
+            }
+            // The summary names the instruction set the tiles ran with.
+            let used = if isa == "auto" { "" } else { isa };
+            assert!(stderr(&o).contains(&format!(", isa {used}")), "{}", stderr(&o));
+            let bytes = std::fs::read(&out).unwrap();
+            match &reference {
+                None => reference = Some(bytes),
+                Some(r) => assert!(r == &bytes, "--isa {isa} --packet {packet} differs from baseline"),
+            }
+            ran.push(isa);
+        }
+    }
+    eprintln!("instruction sets run: {ran:?}");
+    assert!(ran.contains(&"baseline") && ran.contains(&"auto"));
+    assert_eq!(raypack(&["render", &scene("balls-1.nff"), "-o", "x.ppm", "--isa", "sse9"]).status.code(), Some(2));
+}
+
+/// `key=value` fields of a `bench` line.
+fn fields(line: &str) -> std::collections::HashMap<&str, &str> {
+    line.split(' ').skip(1).filter_map(|f| f.split_once('=')).collect()
+}
+
+#[test]
+fn bench_prints_one_line_per_measurement() {
+    let o = raypack(&["bench", &scene("balls-1.nff"), "--width", "40", "--height", "24", "--rounds", "2", "--packet", "1,8", "-j", "1,2", "--isa", "baseline"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(lines[0].starts_with("# raypack-bench 1 ") && lines[0].contains(" cores="), "{out}");
+    assert!(lines[1].contains("scene=balls-1 primitives=11 lights=3 size=40x24 scalar=f32 accel=bvh"), "{out}");
+    let bench: Vec<_> = lines.iter().filter(|l| l.starts_with("bench ")).map(|l| fields(l)).collect();
+    // 2 measurements × 2 packet widths × 2 thread counts, nothing else.
+    assert_eq!(bench.len(), 8, "{out}");
+    assert_eq!(lines.len(), 10, "{out}");
+    let mut whitted_rays = None;
+    for f in &bench {
+        for key in ["scene", "size", "scalar", "accel", "measure", "isa", "packet", "threads", "rays", "best_s", "median_s", "mrays_per_s", "vs_packet1", "vs_1thread"] {
+            assert!(f.contains_key(key), "{key} missing in {f:?}");
+        }
+        let best: f64 = f["best_s"].parse().unwrap();
+        let median: f64 = f["median_s"].parse().unwrap();
+        assert!(best > 0.0 && best <= median, "{f:?}");
+        let rays: u64 = f["rays"].parse().unwrap();
+        match f["measure"] {
+            // One primary ray per pixel.
+            "primary" => assert_eq!(rays, 40 * 24),
+            // Shadow and secondary rays too, the same count in every configuration.
+            "whitted" => {
+                assert!(rays > 40 * 24);
+                assert_eq!(*whitted_rays.get_or_insert(rays), rays);
+            }
+            other => panic!("unknown measure {other}"),
+        }
+        let rate: f64 = f["mrays_per_s"].parse().unwrap();
+        assert!((rate - rays as f64 / best / 1e6).abs() <= 0.001 + 1e-3 * rate, "{f:?}");
+        if f["packet"] == "1" {
+            assert_eq!(f["vs_packet1"], "1.00");
+        }
+        if f["threads"] == "1" {
+            assert_eq!(f["vs_1thread"], "1.00");
+        }
+    }
+    // Fixed point runs on the baseline whatever is asked.
+    let o = raypack(&["bench", &scene("balls-1.nff"), "--width", "16", "--height", "16", "--rounds", "1", "--packet", "4", "-j", "1", "--scalar", "fixed"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert!(out.lines().filter(|l| l.starts_with("bench ")).all(|l| fields(l)["isa"] == "baseline" && fields(l)["scalar"] == "fixed"), "{out}");
+    // Errors: a bad scene names its line; bad arguments exit with 2.
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.nff");
+    std::fs::write(&bad, "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\nf 1 0 0 1 0 0 0 1\ns 0 0 0 zero\n").unwrap();
+    let o = raypack(&["bench", bad.to_str().unwrap(), "--rounds", "1"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("bad.nff: line 9, column 9"), "{}", stderr(&o));
+    assert_eq!(raypack(&["bench", &scene("balls-1.nff"), "--packet", "3"]).status.code(), Some(2));
+    assert_eq!(raypack(&["bench", &scene("balls-1.nff"), "--rounds", "0"]).status.code(), Some(2));
+}

@@ -6,10 +6,12 @@
 //! (one line on stderr, the reader's message with line and column); 2 bad
 //! command line.
 
+mod bench;
 mod info;
 mod load;
 mod output;
 mod render;
+mod tiles;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -27,6 +29,8 @@ struct Cli {
 enum Command {
     /// Render a scene to a PPM (binary P6) or PNG image.
     Render(RenderArgs),
+    /// Measure primary-ray and full-render throughput of a scene, one line per measurement.
+    Bench(bench::BenchArgs),
     /// Show what a scene holds: primitives by kind, lights, materials, bounds, camera.
     Info {
         /// The NFF scene file.
@@ -55,6 +59,54 @@ enum Packet {
     /// 4×2 pixels per packet.
     #[value(name = "8")]
     Eight,
+}
+
+impl Packet {
+    /// Rays per packet.
+    pub fn width(self) -> usize {
+        match self {
+            Packet::One => 1,
+            Packet::Four => 4,
+            Packet::Eight => 8,
+        }
+    }
+}
+
+/// Instruction set of the render path (x86-64; the bytes are the same with every one).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum IsaArg {
+    /// The fastest this CPU has (AVX-512, else AVX2, else the baseline).
+    Auto,
+    /// The build's baseline (x86-64: SSE2).
+    Baseline,
+    /// AVX2 (256-bit vectors, no FMA).
+    Avx2,
+    /// AVX-512 F/VL/BW/DQ.
+    Avx512,
+}
+
+impl IsaArg {
+    /// The instruction set asked for; an error if this CPU lacks it.
+    fn resolve(self) -> Result<raypack::dispatch::Isa, Failure> {
+        use raypack::dispatch::Isa;
+        let isa = match self {
+            IsaArg::Auto => return Ok(Isa::best()),
+            IsaArg::Baseline => Isa::Baseline,
+            IsaArg::Avx2 => Isa::Avx2,
+            IsaArg::Avx512 => Isa::Avx512,
+        };
+        if isa.is_available() {
+            Ok(isa)
+        } else {
+            Err(Failure(format!("this CPU cannot run --isa {isa} (it can run: {})", available_isas())))
+        }
+    }
+}
+
+/// The instruction sets this CPU can run, comma-separated.
+fn available_isas() -> String {
+    let names: Vec<&str> = raypack::dispatch::Isa::ALL.iter().filter(|i| i.is_available()).map(|i| i.name()).collect();
+    names.join(", ")
 }
 
 /// How rays are traced.
@@ -122,6 +174,9 @@ struct RenderArgs {
     /// Number type: 32-bit float, or 32.32 fixed point (for FPU-less targets).
     #[arg(long, value_enum, default_value = "f32")]
     scalar: ScalarArg,
+    /// Instruction set of the f32 render path (the image is the same with every one).
+    #[arg(long, value_enum, default_value = "auto")]
+    isa: IsaArg,
     /// No progress bar, warnings or summary (errors are still reported).
     #[arg(short, long)]
     quiet: bool,
@@ -140,6 +195,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Info { scene } => info::run(&scene),
     };
     match result {

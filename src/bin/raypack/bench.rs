@@ -1,0 +1,231 @@
+//! `raypack bench`: throughput of a scene on this machine, one line per
+//! measurement, so machines (and packet widths, thread counts, instruction
+//! sets) can be compared.
+//!
+//! Two measurements per configuration:
+//! - `primary`: the closest hit of one primary ray per pixel (the ID image:
+//!   intersection and traversal only, no shading);
+//! - `whitted`: the full Whitted render (colour: shadows, reflection,
+//!   refraction up to `--depth`), every ray counted.
+//!
+//! All configurations run interleaved, round after round, and each reports
+//! its best and median wall time over the rounds, so the configurations of
+//! one run saw the same machine conditions: compare ratios within a run.
+//! Every render of a measurement must give the same bytes (whatever the
+//! packet width, thread count or instruction set); a difference is reported
+//! as an error, never averaged away.
+//!
+//! Output format (stable; `key=value` fields separated by one space, lines
+//! starting with `#` are comments):
+//! ```text
+//! # raypack-bench 1 version=0.1.0 cpu="…" cores=2 isas=baseline,avx2 rounds=5
+//! # scene=balls-2 primitives=92 lights=3 accel=bvh nodes=… depth=…
+//! bench scene=balls-2 size=512x512 scalar=f32 accel=bvh measure=primary isa=avx2 packet=8 threads=1 rays=262144 best_s=0.012345678 median_s=0.012800000 mrays_per_s=21.235 vs_packet1=4.97 vs_1thread=1.00
+//! ```
+//! `mrays_per_s` is rays / best time / 10⁶; `vs_packet1` divides the best
+//! time of packet width 1 (same isa and threads) by this one's, `vs_1thread`
+//! the best time of 1 thread (same isa and packet) by this one's; each is
+//! printed only when that configuration was measured.
+
+use crate::load::{self, Loaded};
+use crate::render::{image_size, make_renderer};
+use crate::tiles::{self, TileScalar, MAX_DEPTH};
+use crate::{AccelArg, Failure, IsaArg, Packet, ScalarArg};
+use raypack::dispatch::Isa;
+use raypack::prelude::*;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Version of the output format (first field of the header line).
+const FORMAT: u32 = 1;
+
+#[derive(clap::Args, Debug)]
+pub struct BenchArgs {
+    /// The NFF scene file.
+    scene: PathBuf,
+    /// Image width (default 512, or keeps the file's aspect ratio with --height alone).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65535))]
+    width: Option<u32>,
+    /// Image height (default 512, or keeps the file's aspect ratio with --width alone).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65535))]
+    height: Option<u32>,
+    /// Packet widths to measure (comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',', default_values = ["1", "8"])]
+    packet: Vec<Packet>,
+    /// Thread counts to measure (comma-separated; default: 1 and one per core).
+    #[arg(short = 'j', long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Vec<u32>,
+    /// Instruction sets to measure (comma-separated; `auto` is the best this CPU has).
+    #[arg(long, value_enum, value_delimiter = ',', default_values = ["auto"])]
+    isa: Vec<IsaArg>,
+    /// Rounds over all configurations (each configuration reports its best and median).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=10000))]
+    rounds: u32,
+    /// Maximum ray depth of the Whitted measurement.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=MAX_DEPTH as i64))]
+    depth: u32,
+    /// Acceleration structure.
+    #[arg(long, value_enum, default_value = "bvh")]
+    accel: AccelArg,
+    /// Number type.
+    #[arg(long, value_enum, default_value = "f32")]
+    scalar: ScalarArg,
+}
+
+/// One configuration and what it measured.
+struct Config {
+    measure: &'static str,
+    isa: Isa,
+    packet: usize,
+    threads: u32,
+    times: Vec<f64>,
+    rays: u64,
+}
+
+pub fn run(args: &BenchArgs) -> Result<(), Failure> {
+    let accel = args.accel == AccelArg::Bvh;
+    match args.scalar {
+        ScalarArg::F32 => load::with_scene::<f32, _>(&args.scene, accel, &|scene| bench_scene(args, scene, "f32")),
+        ScalarArg::Fixed => load::with_scene::<Fixed, _>(&args.scene, accel, &|scene| bench_scene(args, scene, "fixed")),
+    }
+}
+
+/// The CPU's model name (Linux), for the header.
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|m| m.trim().replace('"', "'")))
+        .unwrap_or_else(|| "unknown".into())
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n == 0 {
+        0.0
+    } else if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn best(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &str) -> Result<(), Failure> {
+    let name = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().replace(' ', "_"));
+    let (width, height) = match (args.width, args.height) {
+        (None, None) => (512, 512),
+        (w, h) => image_size(w, h, scene.info.camera.map_or((1, 1), |c| (c.width, c.height))),
+    };
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get() as u32);
+    let mut threads = args.threads.clone();
+    if threads.is_empty() {
+        threads = vec![1, cores];
+    }
+    threads.dedup();
+    let mut isas = Vec::new();
+    for a in &args.isa {
+        // The ISA the tiles really run with (fixed point: always the baseline).
+        let isa = S::isa_used(a.resolve()?);
+        if !isas.contains(&isa) {
+            isas.push(isa);
+        }
+    }
+    let mut packets: Vec<usize> = args.packet.iter().map(|p| p.width()).collect();
+    packets.dedup();
+
+    let accel = match &scene.bvh {
+        Some((b, built)) => format!("accel=bvh nodes={} leaves={} depth={} outside={} build_ms={:.3}", b.nodes, b.leaves, b.depth, b.unbounded, built.as_secs_f64() * 1e3),
+        None => "accel=none".into(),
+    };
+    println!(
+        "# raypack-bench {FORMAT} version={} cpu=\"{}\" cores={cores} isas={} rounds={}",
+        env!("CARGO_PKG_VERSION"),
+        cpu_model(),
+        crate::available_isas().replace(' ', ""),
+        args.rounds
+    );
+    println!(
+        "# scene={name} primitives={} lights={} size={width}x{height} scalar={scalar} {accel}",
+        scene.view.primitives().len(),
+        scene.view.lights().len()
+    );
+
+    // The two renderers: closest hit of primary rays, and the full render.
+    let primary = make_renderer(&args.scene, &scene, (width, height), TraceSettings { mode: Mode::Cast, ..TraceSettings::default() }, Aov::Id, false)?;
+    let whitted = make_renderer(
+        &args.scene,
+        &scene,
+        (width, height),
+        TraceSettings { mode: Mode::Whitted, max_depth: args.depth, ..TraceSettings::default() },
+        Aov::Color,
+        true,
+    )?;
+    let mut pools = Vec::new();
+    for &t in &threads {
+        pools.push((t, tiles::pool(Some(t))?));
+    }
+
+    let mut configs = Vec::new();
+    for measure in ["primary", "whitted"] {
+        for &isa in &isas {
+            for &packet in &packets {
+                for &t in &threads {
+                    configs.push(Config { measure, isa, packet, threads: t, times: Vec::new(), rays: 0 });
+                }
+            }
+        }
+    }
+    // The first image of each measurement; every other must equal it.
+    let mut reference: [Option<Vec<Rgb8>>; 2] = [None, None];
+    let nothing = || {};
+    for _ in 0..args.rounds {
+        for c in configs.iter_mut() {
+            let (renderer, slot) = if c.measure == "primary" { (&primary, 0) } else { (&whitted, 1) };
+            let pool = pools.iter().find(|p| p.0 == c.threads).map(|p| &p.1).ok_or_else(|| Failure("no pool".into()))?;
+            let start = Instant::now();
+            let (pixels, stats) = tiles::render_image(renderer, c.packet, c.isa, pool, &nothing)?;
+            c.times.push(start.elapsed().as_secs_f64());
+            c.rays = stats.total();
+            match &reference[slot] {
+                None => reference[slot] = Some(pixels),
+                Some(r) if *r == pixels => {}
+                Some(_) => {
+                    return Err(Failure(format!(
+                        "determinism violated: the {} image of isa {} packet {} threads {} differs from the first one",
+                        c.measure, c.isa, c.packet, c.threads
+                    )))
+                }
+            }
+        }
+    }
+
+    for c in &configs {
+        let b = best(&c.times);
+        let mut line = format!(
+            "bench scene={name} size={width}x{height} scalar={scalar} accel={} measure={} isa={} packet={} threads={} rays={} best_s={:.9} median_s={:.9} mrays_per_s={:.3}",
+            if scene.bvh.is_some() { "bvh" } else { "none" },
+            c.measure,
+            c.isa,
+            c.packet,
+            c.threads,
+            c.rays,
+            b,
+            median(&c.times),
+            if b > 0.0 { c.rays as f64 / b / 1e6 } else { 0.0 }
+        );
+        let find = |packet: usize, threads: u32| configs.iter().find(|o| o.measure == c.measure && o.isa == c.isa && o.packet == packet && o.threads == threads);
+        if let Some(o) = find(1, c.threads) {
+            line += &format!(" vs_packet1={:.2}", best(&o.times) / b);
+        }
+        if let Some(o) = find(c.packet, 1) {
+            line += &format!(" vs_1thread={:.2}", best(&o.times) / b);
+        }
+        println!("{line}");
+    }
+    Ok(())
+}
