@@ -15,6 +15,7 @@ cargo test --all-features
 
 say "core builds for bare metal (no_std, no alloc)"
 cargo build --lib --no-default-features --target thumbv7em-none-eabihf
+cargo build --lib --no-default-features --features embedded-graphics --target thumbv7em-none-eabihf
 
 say "docs build without warnings"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --all-features -q

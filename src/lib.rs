@@ -30,6 +30,9 @@
 pub mod bvh;
 pub mod camera;
 pub mod demo;
+// Drawing into embedded-graphics displays, band by band (feature `embedded-graphics`).
+#[cfg(feature = "embedded-graphics")]
+pub mod draw_target;
 pub mod fixed;
 pub mod lanes;
 pub mod nff;
