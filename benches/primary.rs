@@ -46,6 +46,17 @@ fn bench_kernels(c: &mut Criterion) {
         }
         g.finish();
     }
+    // The ray-sphere kernel alone (no dispatch on the primitive kind).
+    let scene = kind_scene("sphere");
+    let spheres = spheres_of(&scene.view());
+    let mut g = c.benchmark_group("kernel/sphere-alone");
+    g.throughput(Throughput::Elements(256 * 256 * spheres.len() as u64));
+    g.bench_function(BenchmarkId::new(isa.name(), 1), |b| b.iter(|| sphere_pass(isa, &spheres, black_box(&p1))));
+    g.bench_function(BenchmarkId::new(isa.name(), 8), |b| b.iter(|| sphere_pass(isa, &spheres, black_box(&p8))));
+    if isa == Isa::Avx512 {
+        g.bench_function(BenchmarkId::new(isa.name(), 16), |b| b.iter(|| sphere_pass(isa, &spheres, black_box(&p16))));
+    }
+    g.finish();
 }
 
 fn bench_grid(c: &mut Criterion) {

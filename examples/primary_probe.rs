@@ -7,7 +7,9 @@
 //! ```text
 //! cargo run --release --example primary_probe -- WORKLOAD [ROUNDS]
 //!   scene    primary rays vs 16 spheres, 256×256 (the historical figure)
-//!   kernel   the bare ray-sphere kernel, 256×256 rays vs 16 spheres
+//!   kernel   the bare ray-sphere kernel, 256×256 rays vs 16 spheres:
+//!            through `Shape::roots` (the kind dispatch the tracer uses)
+//!            and `Sphere::roots` alone
 //!   grid     primary rays vs N = 1, 16, 64, 256 spheres, 1024×1024
 //!   kinds    the bare kernel of each primitive kind, 256×256 rays vs 16 of it
 //!   render   Whitted render of the demo scene, 256×256
@@ -107,6 +109,24 @@ fn kind_workload(kind: &str, rounds: u32) {
     measure(&format!("kernel kind={kind} prims=16 size=256"), "tests", tests, rounds, &mut cs);
 }
 
+fn sphere_kernel_workload(rounds: u32) {
+    let scene = kind_scene("sphere");
+    let view = scene.view();
+    let spheres = spheres_of(&view);
+    let cam = camera(256);
+    let (p1, p4, p8, p16) = (packets::<1>(&cam), packets::<4>(&cam), packets::<8>(&cam), packets::<16>(&cam));
+    let (s, p1, p4, p8, p16) = (&spheres[..], &p1, &p4, &p8, &p16);
+    let mut cs = Vec::new();
+    for isa in isas() {
+        cs.push(config(isa, 1, move || sphere_pass(isa, s, black_box(p1)) as u64));
+        cs.push(config(isa, 4, move || sphere_pass(isa, s, black_box(p4)) as u64));
+        cs.push(config(isa, 8, move || sphere_pass(isa, s, black_box(p8)) as u64));
+        cs.push(config(isa, 16, move || sphere_pass(isa, s, black_box(p16)) as u64));
+    }
+    let tests = 65536.0 * spheres.len() as f64;
+    measure(&format!("kernel kind=sphere-alone prims={} size=256", spheres.len()), "tests", tests, rounds, &mut cs);
+}
+
 fn render_workload(rounds: u32) {
     let scene = demo_scene::<f32>().unwrap();
     let cam = demo_camera::<f32>(256, 256).unwrap();
@@ -136,7 +156,10 @@ fn main() {
     println!("# best of {rounds} interleaved rounds; best ISA here: {}", Isa::best());
     match workload {
         "scene" => scene_workload("primary", 16, 256, rounds),
-        "kernel" => kind_workload("sphere", rounds),
+        "kernel" => {
+            kind_workload("sphere", rounds);
+            sphere_kernel_workload(rounds);
+        }
         "grid" => {
             for n in [1, 16, 64, 256] {
                 scene_workload("primary", n, 1024, rounds);

@@ -162,11 +162,12 @@ impl Mul for Fixed {
 
 impl Div for Fixed {
     type Output = Self;
-    // Inlined on 64-bit hosts (a few instructions there); called on 32-bit
-    // targets, where the 128-bit arithmetic expands to a long sequence and
-    // inlining it everywhere overflows a Cortex-M0's 256 KiB of flash.
-    #[cfg_attr(target_pointer_width = "64", inline(always))]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    // Never inlined: a division costs tens of cycles anyway (a call adds
+    // little), and its branches and 128-bit paths, inlined into every lane
+    // of every packet operation of the fully inlined render path, made
+    // release builds of the CLI take many minutes to compile (and overflowed
+    // a Cortex-M0's 256 KiB of flash on 32-bit targets).
+    #[inline(never)]
     fn div(self, o: Self) -> Self {
         let (a, b) = (self.to_bits(), o.to_bits());
         if b == 0 {
@@ -293,7 +294,8 @@ impl Scalar for Fixed {
     fn to_f32(self) -> f32 {
         self.to_f64() as f32
     }
-    #[inline]
+    // Out of line like `div`: a 128-bit integer square root loop.
+    #[inline(never)]
     fn sqrt(self) -> Self {
         let a = self.to_bits();
         if a <= 0 {

@@ -6,6 +6,7 @@
 
 use raypack::dispatch::{Isa, IsaKernel};
 use raypack::prelude::*;
+use raypack::primitives::Sphere;
 use raypack::scene::Scene;
 
 /// Packets of primary rays covering a whole image.
@@ -148,6 +149,51 @@ impl<const W: usize> IsaKernel for ShapePass<'_, '_, W> {
         }
         hits
     }
+}
+
+/// The ray-sphere kernel alone ([`Sphere::roots`], no dispatch on the
+/// primitive kind): the packet stays in registers while the spheres stream
+/// past, and only the nearest root per lane is kept. Returns the number of
+/// lanes that hit anything.
+pub struct SpherePass<'v, 'p, const W: usize> {
+    /// The spheres.
+    pub spheres: &'v [Sphere<f32>],
+    /// The packets.
+    pub packets: &'p Packets<W>,
+}
+
+impl<const W: usize> IsaKernel for SpherePass<'_, '_, W> {
+    type Output = u32;
+    #[inline(always)]
+    fn run(self) -> u32 {
+        let mut hits = 0;
+        for (ray, m) in self.packets {
+            let mut best = Lanes::splat(f32::MAX);
+            for s in self.spheres {
+                let r = s.roots(ray, Lanes::zero(), Lanes::splat(f32::MAX), *m);
+                best = best.min(r.t0);
+            }
+            hits += best.lt(Lanes::splat(f32::MAX)).count();
+        }
+        hits
+    }
+}
+
+/// The spheres of a scene (the other primitives are left out).
+pub fn spheres_of(view: &SceneView<'_, f32>) -> Vec<Sphere<f32>> {
+    view.primitives()
+        .iter()
+        .filter_map(|p| match p.shape {
+            Shape::Sphere(s) => Some(s),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Runs a [`SpherePass`] compiled for `isa`.
+#[inline(never)]
+pub fn sphere_pass<const W: usize>(isa: Isa, spheres: &[Sphere<f32>], packets: &Packets<W>) -> u32 {
+    isa.run(SpherePass { spheres, packets })
 }
 
 /// Runs a [`ScenePass`] compiled for `isa`.

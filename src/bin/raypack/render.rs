@@ -152,5 +152,5 @@ fn render_scene<S: TileScalar>(args: &RenderArgs, scene: Loaded<'_, S>) -> Resul
     let (pixels, stats) = tiles::render_image(&renderer, args.packet.width(), isa, &pool, &done)?;
     let time = start.elapsed();
     bar.finish_and_clear();
-    Ok(Rendered { width, height, pixels, stats, threads: pool.current_num_threads(), isa: S::isa_used(isa), time, accel: scene.bvh })
+    Ok(Rendered { width, height, pixels, stats, threads: pool.current_num_threads(), isa: S::isa_used(isa, args.packet.width()), time, accel: scene.bvh })
 }

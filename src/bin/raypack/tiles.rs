@@ -21,8 +21,9 @@ pub const TILE: u32 = 32;
 
 /// A scalar type the CLI renders with, and how its tiles reach the core.
 pub trait TileScalar: Scalar {
-    /// The instruction set tiles really run with when `isa` is asked for.
-    fn isa_used(isa: Isa) -> Isa;
+    /// The instruction set tiles of `packet`-wide packets really run with
+    /// when `isa` is asked for.
+    fn isa_used(isa: Isa, packet: usize) -> Isa;
     /// Renders one tile with packets of width `W`.
     fn render_tile<const W: usize>(
         isa: Isa,
@@ -33,11 +34,20 @@ pub trait TileScalar: Scalar {
     ) -> Result<(), BufferTooSmall>;
 }
 
+/// Packets of 8 `f32` rays go through the dispatcher: the render path
+/// compiled for the instruction set asked for. Narrower packets always run
+/// the baseline copy: 1 and 4 lanes of `f32` fit SSE2's 128-bit registers,
+/// so AVX2 and AVX-512 would only re-encode the same work, and every
+/// dispatched copy of the whole (fully inlined) render path costs minutes
+/// of release compile time.
 impl TileScalar for f32 {
-    fn isa_used(isa: Isa) -> Isa {
-        isa.effective()
+    fn isa_used(isa: Isa, packet: usize) -> Isa {
+        if packet == 8 {
+            isa.effective()
+        } else {
+            Isa::Baseline
+        }
     }
-    /// Through the dispatcher: the render path compiled for `isa`.
     fn render_tile<const W: usize>(
         isa: Isa,
         renderer: &Renderer<'_, f32, DEPTH>,
@@ -45,14 +55,18 @@ impl TileScalar for f32 {
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
-        dispatch::render_rect::<f32, DEPTH, W>(isa, renderer, rect, out, stats)
+        if W == 8 {
+            dispatch::render_rect::<f32, DEPTH, 8>(isa, renderer, rect, out, stats)
+        } else {
+            renderer.render_rect::<W>(rect, out, stats)
+        }
     }
 }
 
 impl TileScalar for Fixed {
     /// Fixed point is integer code: wider vector units do not help it (its
     /// 128-bit products do not vectorize), so it is not compiled per ISA.
-    fn isa_used(_: Isa) -> Isa {
+    fn isa_used(_: Isa, _: usize) -> Isa {
         Isa::Baseline
     }
     fn render_tile<const W: usize>(
