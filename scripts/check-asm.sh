@@ -16,9 +16,11 @@ if [ "$(uname -m)" != "x86_64" ]; then
 fi
 command -v objdump >/dev/null || { echo "check-asm: objdump missing (apt-get install binutils)" >&2; exit 1; }
 
-# The shipped binary: the CLI renders every tile through the dispatcher.
-cargo build --release --bin raypack -q
-bin=target/release/raypack
+# The probe calls the same dispatcher entry points as the CLI
+# (`dispatch::render_rect` and `Isa::run`) and builds in a fraction of the
+# CLI's release build time (no fixed-point or clap/png/rayon code).
+cargo build --release --example primary_probe -q
+bin=target/release/examples/primary_probe
 asm=$(mktemp)
 trap 'rm -f "$asm"' EXIT
 objdump -d --no-show-raw-insn -C "$bin" >"$asm"
