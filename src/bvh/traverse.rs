@@ -182,7 +182,10 @@ impl<S: Scalar, const W: usize> LeafVisitor<S, W> for ClosestHit<'_, '_, S, W> {
         (self.best_t, self.active, true)
     }
 
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    // Forced inline only where the dispatcher compiles per-ISA copies
+    // (x86): elsewhere the two call sites would double the leaf code, too
+    // much for a Cortex-M0's flash.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86_64", target_arch = "x86")), inline(always))]
     fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
         let prims = self.scene.primitives();
         let verts = self.scene.vertices();
@@ -223,7 +226,10 @@ impl<S: Scalar, const W: usize> LeafVisitor<S, W> for Shadow<'_, '_, S, W> {
         (self.t_max, self.live, self.live.any() && !self.overflow)
     }
 
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    // Forced inline only where the dispatcher compiles per-ISA copies
+    // (x86): elsewhere the two call sites would double the leaf code, too
+    // much for a Cortex-M0's flash.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86_64", target_arch = "x86")), inline(always))]
     fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
         let prims = self.scene.primitives();
         let verts = self.scene.vertices();
