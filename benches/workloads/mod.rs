@@ -121,57 +121,49 @@ impl<const W: usize> IsaKernel for ScenePass<'_, '_, W> {
     }
 }
 
-/// The bare kernels (`Shape::roots`) of a list of primitives for every
-/// packet: the packet stays in registers while the primitives stream past,
-/// and only the nearest root per lane is kept (no primitive ids, no
-/// closest-hit bookkeeping). Returns the number of lanes that hit anything.
-pub struct ShapePass<'v, 'p, const W: usize> {
-    /// The primitives.
-    pub prims: &'v [raypack::scene::Primitive<f32>],
+/// Something with a bare packet kernel: a scene primitive (through the
+/// `Shape` match on its kind, as the tracer calls it) or a sphere alone.
+pub trait Kernel {
+    /// Crossings of each active ray in `(0, f32::MAX)`.
+    fn roots<const W: usize>(&self, pool: &[Vec3<f32>], ray: &RayPacket<f32, W>, active: Mask<W>) -> raypack::ray::Roots<f32, W>;
+}
+
+impl Kernel for raypack::scene::Primitive<f32> {
+    #[inline(always)]
+    fn roots<const W: usize>(&self, pool: &[Vec3<f32>], ray: &RayPacket<f32, W>, active: Mask<W>) -> raypack::ray::Roots<f32, W> {
+        self.shape.roots(pool, ray, Lanes::zero(), Lanes::splat(f32::MAX), active)
+    }
+}
+
+impl Kernel for Sphere<f32> {
+    #[inline(always)]
+    fn roots<const W: usize>(&self, _: &[Vec3<f32>], ray: &RayPacket<f32, W>, active: Mask<W>) -> raypack::ray::Roots<f32, W> {
+        Sphere::roots(self, ray, Lanes::zero(), Lanes::splat(f32::MAX), active)
+    }
+}
+
+/// The bare kernels of a list of items for every packet: the packet stays
+/// in registers while the items stream past, and only the nearest root per
+/// lane is kept (no primitive ids, no closest-hit bookkeeping). Returns the
+/// number of lanes that hit anything.
+pub struct KernelPass<'v, 'p, K, const W: usize> {
+    /// The primitives (or spheres).
+    pub items: &'v [K],
     /// The scene's vertex pool (polygons).
     pub pool: &'v [Vec3<f32>],
     /// The packets.
     pub packets: &'p Packets<W>,
 }
 
-impl<const W: usize> IsaKernel for ShapePass<'_, '_, W> {
+impl<K: Kernel, const W: usize> IsaKernel for KernelPass<'_, '_, K, W> {
     type Output = u32;
     #[inline(always)]
     fn run(self) -> u32 {
         let mut hits = 0;
         for (ray, m) in self.packets {
             let mut best = Lanes::splat(f32::MAX);
-            for p in self.prims {
-                let r = p.shape.roots(self.pool, ray, Lanes::zero(), Lanes::splat(f32::MAX), *m);
-                best = best.min(r.t0);
-            }
-            hits += best.lt(Lanes::splat(f32::MAX)).count();
-        }
-        hits
-    }
-}
-
-/// The ray-sphere kernel alone ([`Sphere::roots`], no dispatch on the
-/// primitive kind): the packet stays in registers while the spheres stream
-/// past, and only the nearest root per lane is kept. Returns the number of
-/// lanes that hit anything.
-pub struct SpherePass<'v, 'p, const W: usize> {
-    /// The spheres.
-    pub spheres: &'v [Sphere<f32>],
-    /// The packets.
-    pub packets: &'p Packets<W>,
-}
-
-impl<const W: usize> IsaKernel for SpherePass<'_, '_, W> {
-    type Output = u32;
-    #[inline(always)]
-    fn run(self) -> u32 {
-        let mut hits = 0;
-        for (ray, m) in self.packets {
-            let mut best = Lanes::splat(f32::MAX);
-            for s in self.spheres {
-                let r = s.roots(ray, Lanes::zero(), Lanes::splat(f32::MAX), *m);
-                best = best.min(r.t0);
+            for k in self.items {
+                best = best.min(k.roots(self.pool, ray, *m).t0);
             }
             hits += best.lt(Lanes::splat(f32::MAX)).count();
         }
@@ -190,10 +182,11 @@ pub fn spheres_of(view: &SceneView<'_, f32>) -> Vec<Sphere<f32>> {
         .collect()
 }
 
-/// Runs a [`SpherePass`] compiled for `isa`.
+/// Runs the sphere kernel alone ([`Sphere::roots`], no dispatch on the
+/// primitive kind) over `spheres`, compiled for `isa`.
 #[inline(never)]
 pub fn sphere_pass<const W: usize>(isa: Isa, spheres: &[Sphere<f32>], packets: &Packets<W>) -> u32 {
-    isa.run(SpherePass { spheres, packets })
+    isa.run(KernelPass { items: spheres, pool: &[], packets })
 }
 
 /// Runs a [`ScenePass`] compiled for `isa`.
@@ -202,10 +195,11 @@ pub fn scene_pass<const W: usize>(isa: Isa, view: &SceneView<'_, f32>, packets: 
     isa.run(ScenePass { view, packets })
 }
 
-/// Runs a [`ShapePass`] compiled for `isa`.
+/// Runs the bare kernels of a scene's primitives (through the `Shape`
+/// match) compiled for `isa`.
 #[inline(never)]
 pub fn shape_pass<const W: usize>(isa: Isa, view: &SceneView<'_, f32>, packets: &Packets<W>) -> u32 {
-    isa.run(ShapePass { prims: view.primitives(), pool: view.vertices(), packets })
+    isa.run(KernelPass { items: view.primitives(), pool: view.vertices(), packets })
 }
 
 /// A full render of `renderer` (single thread, one rectangle) compiled for

@@ -129,6 +129,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
     if threads.is_empty() {
         threads = vec![1, cores];
     }
+    threads.sort_unstable();
     threads.dedup();
     let mut isas = Vec::new();
     for a in &args.isa {
@@ -138,6 +139,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
         }
     }
     let mut packets: Vec<usize> = args.packet.iter().map(|p| p.width()).collect();
+    packets.sort_unstable();
     packets.dedup();
 
     let accel = match &scene.bvh {

@@ -19,13 +19,15 @@ pub const DEPTH: usize = MAX_DEPTH as usize;
 /// Tile side in pixels.
 pub const TILE: u32 = 32;
 
-/// A scalar type the CLI renders with, and how its tiles reach the core.
+/// A scalar type the CLI renders with, and how its packets of 8 reach the
+/// core. (Packets of 1 and 4 always run the plain, baseline `render_rect`.)
 pub trait TileScalar: Scalar {
     /// The instruction set tiles of `packet`-wide packets really run with
     /// when `isa` is asked for.
     fn isa_used(isa: Isa, packet: usize) -> Isa;
-    /// Renders one tile with packets of width `W`.
-    fn render_tile<const W: usize>(
+    /// Renders one tile with packets of 8 rays, compiled for `isa` where the
+    /// scalar is dispatched.
+    fn render_tile_8(
         isa: Isa,
         renderer: &Renderer<'_, Self, DEPTH>,
         rect: Rect,
@@ -48,18 +50,14 @@ impl TileScalar for f32 {
             Isa::Baseline
         }
     }
-    fn render_tile<const W: usize>(
+    fn render_tile_8(
         isa: Isa,
         renderer: &Renderer<'_, f32, DEPTH>,
         rect: Rect,
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
-        if W == 8 {
-            dispatch::render_rect::<f32, DEPTH, 8>(isa, renderer, rect, out, stats)
-        } else {
-            renderer.render_rect::<W>(rect, out, stats)
-        }
+        dispatch::render_rect::<f32, DEPTH, 8>(isa, renderer, rect, out, stats)
     }
 }
 
@@ -69,14 +67,14 @@ impl TileScalar for Fixed {
     fn isa_used(_: Isa, _: usize) -> Isa {
         Isa::Baseline
     }
-    fn render_tile<const W: usize>(
+    fn render_tile_8(
         _: Isa,
         renderer: &Renderer<'_, Fixed, DEPTH>,
         rect: Rect,
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
-        renderer.render_rect::<W>(rect, out, stats)
+        renderer.render_rect::<8>(rect, out, stats)
     }
 }
 
@@ -110,9 +108,9 @@ pub fn render_image<S: TileScalar>(
                 let mut px = vec![[0u8; 3]; rect.w as usize * rect.h as usize];
                 let mut stats = RayStats::default();
                 match packet {
-                    1 => S::render_tile::<1>(isa, renderer, rect, &mut px, &mut stats),
-                    4 => S::render_tile::<4>(isa, renderer, rect, &mut px, &mut stats),
-                    8 => S::render_tile::<8>(isa, renderer, rect, &mut px, &mut stats),
+                    1 => renderer.render_rect::<1>(rect, &mut px, &mut stats),
+                    4 => renderer.render_rect::<4>(rect, &mut px, &mut stats),
+                    8 => S::render_tile_8(isa, renderer, rect, &mut px, &mut stats),
                     other => return Err(Failure(format!("packet width {other} is not one of 1, 4, 8"))),
                 }?;
                 done();
