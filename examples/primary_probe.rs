@@ -11,6 +11,7 @@
 //!            through `Shape::roots` (the kind dispatch the tracer uses)
 //!            and `Sphere::roots` alone
 //!   grid     primary rays vs N = 1, 16, 64, 256 spheres, 1024×1024
+//!   grid-bvh the same grids and N = 1024 through a BVH
 //!   kinds    the bare kernel of each primitive kind, 256×256 rays vs 16 of it
 //!   render   Whitted render of the demo scene, 256×256
 //! ```
@@ -77,8 +78,19 @@ fn isas() -> Vec<Isa> {
 }
 
 fn scene_workload(name: &str, n: usize, size: u32, rounds: u32) {
+    scene_workload_with(name, n, size, rounds, false)
+}
+
+fn scene_workload_with(name: &str, n: usize, size: u32, rounds: u32, with_bvh: bool) {
     let scene = sphere_grid(n);
-    let view = scene.view();
+    let mut bvh: Box<Bvh<f32, 1024>> = Box::new(Bvh::new());
+    let view = if with_bvh {
+        bvh.build(&scene.view()).unwrap();
+        scene.view().with_bvh(&bvh).unwrap()
+    } else {
+        scene.view()
+    };
+    let name = if with_bvh { format!("{name} accel=bvh") } else { name.to_string() };
     let cam = camera(size);
     let (p1, p4, p8, p16) = (packets::<1>(&cam), packets::<4>(&cam), packets::<8>(&cam), packets::<16>(&cam));
     let (view, p1, p4, p8, p16) = (&view, &p1, &p4, &p8, &p16);
@@ -170,9 +182,14 @@ fn main() {
                 kind_workload(k, rounds);
             }
         }
+        "grid-bvh" => {
+            for n in [1, 16, 64, 256, 1024] {
+                scene_workload_with("primary", n, 1024, rounds, true);
+            }
+        }
         "render" => render_workload(rounds),
         other => {
-            eprintln!("unknown workload {other}: scene, kernel, grid, kinds or render");
+            eprintln!("unknown workload {other}: scene, kernel, grid, grid-bvh, kinds or render");
             std::process::exit(2);
         }
     }

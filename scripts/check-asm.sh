@@ -2,11 +2,13 @@
 # Checks the machine code of the dispatched render path (x86-64 only):
 #  1. no fused multiply-add (vfmadd/vfmsub/vfnmadd/vfnmsub) anywhere in the
 #     release binary: FMA would change the bits of the results;
-#  2. the AVX2 entry points (`dispatch::run_avx2`) contain packed 256-bit
-#     `ymm` arithmetic, and the AVX-512 ones (`run_avx512`) 512-bit `zmm`;
+#  2. the AVX2 entry points (`dispatch::run_avx2` and the BVH leaf tests
+#     `bvh::isa::leaf_avx2`) contain packed 256-bit `ymm` arithmetic, and
+#     the AVX-512 ones (`run_avx512`, `leaf_avx512`) 512-bit `zmm`;
 #  3. the dispatched code calls no raypack packet function out of line (an
 #     out-of-line callee would be compiled for the baseline only); the only
-#     raypack calls allowed are the scalar per-lane normal helpers.
+#     raypack calls allowed are the scalar per-lane normal helpers and the
+#     per-instruction-set BVH leaf tests.
 # Needs objdump (Debian: binutils). Prints what it found; exits 1 on failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -33,28 +35,31 @@ echo "check-asm: fused multiply-add instructions in the binary: $fma"
 # Per entry point: its instruction count and how many use ymm / zmm.
 summary=$(awk '
     /^[0-9a-f]+ <.*>:$/ { if (fn != "") print fn, n, y, z; fn = ""; n = y = z = 0 }
-    /^[0-9a-f]+ <raypack::dispatch::run_avx(2|512)>:$/ { fn = ($2 ~ /512/) ? "avx512" : "avx2"; next }
+    /^[0-9a-f]+ <raypack::(dispatch::run|bvh::isa::leaf)_avx(2|512)>:$/ {
+        fn = (($2 ~ /512/) ? "avx512" : "avx2") (($2 ~ /leaf/) ? " bvh-leaf" : " render-path"); next }
     fn != "" && /\t/ { n++; if (/%ymm/) y++; if (/%zmm/) z++ }
     END { if (fn != "") print fn, n, y, z }' "$asm")
-echo "check-asm: dispatched entry points (isa instructions ymm zmm):"
+echo "check-asm: dispatched entry points (isa part instructions ymm zmm):"
 echo "$summary" | sed 's/^/    /'
-ymm=$(echo "$summary" | awk '$1 == "avx2" { s += $3 } END { print s + 0 }')
-zmm=$(echo "$summary" | awk '$1 == "avx512" { s += $4 } END { print s + 0 }')
-[ "$ymm" -gt 0 ] || { echo "check-asm: no ymm instructions in the AVX2 path" >&2; fail=1; }
-[ "$zmm" -gt 0 ] || { echo "check-asm: no zmm instructions in the AVX-512 path" >&2; fail=1; }
+for part in render-path bvh-leaf; do
+    ymm=$(echo "$summary" | awk -v p="$part" '$1 == "avx2" && $2 == p { s += $4 } END { print s + 0 }')
+    zmm=$(echo "$summary" | awk -v p="$part" '$1 == "avx512" && $2 == p { s += $5 } END { print s + 0 }')
+    [ "$ymm" -gt 0 ] || { echo "check-asm: no ymm instructions in the AVX2 $part" >&2; fail=1; }
+    [ "$zmm" -gt 0 ] || { echo "check-asm: no zmm instructions in the AVX-512 $part" >&2; fail=1; }
+done
 
 calls=$(awk '
-    /^[0-9a-f]+ <.*>:$/ { on = ($0 ~ /<raypack::dispatch::run_avx(2|512)>:$/); next }
+    /^[0-9a-f]+ <.*>:$/ { on = ($0 ~ /<raypack::(dispatch::run|bvh::isa::leaf)_avx(2|512)>:$/); next }
     on && /call/ && /<raypack::/ { sub(/^.*call +[0-9a-f]+ /, ""); print }' "$asm" | sort | uniq -c)
 echo "check-asm: raypack functions called from dispatched code:"
 echo "${calls:-    (none)}" | sed 's/^/    /'
-bad=$(echo "$calls" | grep '<raypack::' | grep -vE 'Shape<S>::normal>|Polygon<S>::shading_normal>' || true)
+bad=$(echo "$calls" | grep '<raypack::' | grep -vE 'Shape<S>::normal>|Polygon<S>::shading_normal>|<raypack::bvh::isa::leaf_avx(2|512)>' || true)
 if [ -n "$bad" ]; then
-    # Known: the BVH traversal's leaf tests (`LeafVisitor::leaf`) are kept
-    # out of line (release compile time), so they run the baseline code.
-    echo "check-asm: WARNING: packet code called out of line (compiled for the baseline):" >&2
+    echo "check-asm: packet code called out of line (compiled for the baseline only):" >&2
     echo "$bad" >&2
-    if echo "$bad" | grep -vq 'bvh'; then fail=1; fi
+    fail=1
 fi
+leafcalls=$(echo "$calls" | grep -cE '<raypack::bvh::isa::leaf_avx(2|512)>' || true)
+[ "$leafcalls" -gt 0 ] || { echo "check-asm: the dispatched path never calls the per-ISA BVH leaf tests" >&2; fail=1; }
 [ "$fail" -eq 0 ] && echo "check-asm: ok"
 exit "$fail"

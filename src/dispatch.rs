@@ -31,9 +31,11 @@
 //! same path).
 #![allow(unsafe_code)]
 
+use crate::bvh::LeafIsa;
 use crate::camera::Rect;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
 use crate::scalar::Scalar;
+use crate::scene::SceneView;
 use crate::trace::RayStats;
 
 /// An instruction set the render path can be compiled for.
@@ -92,6 +94,32 @@ impl Isa {
         } else {
             Isa::Baseline
         }
+    }
+
+    /// The token for the BVH leaf tests compiled for
+    /// [`Isa::effective`]`(self)` (see [`crate::bvh::isa`]).
+    pub fn leaf_isa(self) -> LeafIsa {
+        match self.effective() {
+            Isa::Baseline => LeafIsa::default(),
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `effective` returned Avx2 only because run-time
+            // detection found AVX2 on this CPU.
+            Isa::Avx2 => unsafe { LeafIsa::avx2() },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `effective` returned Avx512 only because run-time
+            // detection found AVX-512 F, VL, BW and DQ on this CPU.
+            Isa::Avx512 => unsafe { LeafIsa::avx512() },
+            #[cfg(not(target_arch = "x86_64"))]
+            Isa::Avx2 | Isa::Avx512 => LeafIsa::default(),
+        }
+    }
+
+    /// `view` with its BVH traversals calling the leaf tests compiled for
+    /// [`Isa::effective`]`(self)`. [`render_rect`] does this itself; an
+    /// [`IsaKernel`] that queries a view with a tree should use it, since
+    /// the leaf tests are compiled apart from the inlined path.
+    pub fn view<'a, S: Scalar>(self, view: SceneView<'a, S>) -> SceneView<'a, S> {
+        view.with_leaf_isa(self.leaf_isa())
     }
 
     /// Short lower-case name: `baseline`, `avx2` or `avx512`.
@@ -194,7 +222,12 @@ pub fn render_rect<S: Scalar, const D: usize, const W: usize>(
     out: &mut [Rgb8],
     stats: &mut RayStats,
 ) -> Result<(), BufferTooSmall> {
-    isa.run(RenderRect::<S, D, W> { renderer, rect, out, stats })
+    let isa = isa.effective();
+    // The same renderer, its BVH leaf tests (compiled apart from the
+    // inlined path, see `crate::bvh::isa`) in the same instruction set.
+    let mut local = *renderer;
+    local.tracer = local.tracer.with_leaf_isa(isa.leaf_isa());
+    isa.run(RenderRect::<S, D, W> { renderer: &local, rect, out, stats })
 }
 
 #[cfg(test)]

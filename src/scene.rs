@@ -478,6 +478,12 @@ impl<'a, S: Scalar> SceneView<'a, S> {
         SceneView { bvh: None, ..self }
     }
 
+    /// The same view, its BVH traversals (if a tree is attached) calling
+    /// the leaf tests of `isa` (see [`crate::bvh::isa`]).
+    pub(crate) fn with_leaf_isa(self, isa: crate::bvh::LeafIsa) -> Self {
+        SceneView { bvh: self.bvh.map(|b| b.with_leaf_isa(isa)), ..self }
+    }
+
     /// The attached tree, if any.
     pub fn bvh(&self) -> Option<BvhView<'a, S>> {
         self.bvh

@@ -152,6 +152,10 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
     pub fn scene(&self) -> &SceneView<'a, S> {
         &self.scene
     }
+    /// The same tracer, its BVH traversals calling the leaf tests of `isa`.
+    pub(crate) fn with_leaf_isa(self, isa: crate::bvh::LeafIsa) -> Self {
+        Tracer { scene: self.scene.with_leaf_isa(isa), ..self }
+    }
     /// The settings.
     pub fn settings(&self) -> &TraceSettings<S> {
         &self.settings

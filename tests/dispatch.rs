@@ -100,6 +100,58 @@ fn every_isa_renders_random_scenes_to_the_same_bytes() {
 }
 
 #[test]
+fn every_isa_renders_bvh_scenes_to_the_bytes_of_brute_force() {
+    // With a tree attached, the dispatcher also switches the BVH leaf tests
+    // (compiled apart from the inlined path, `raypack::bvh::isa`) to its
+    // instruction set. Reference: the plain render without a tree.
+    let mut rng = Rng(7013);
+    for case in 0..6 {
+        let scene = random_scene(&mut rng, 14 + case * 5);
+        let camera = random_camera(&mut rng, 27, 21);
+        let mut bvh: Box<Bvh<f32, 64>> = Box::new(Bvh::new());
+        bvh.build(&scene.view()).unwrap();
+        for aov in [Aov::Color, Aov::Id] {
+            let plain: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
+            let (reference, ref_stats) = render::<1>(&Renderer { tracer: plain, camera, aov }, None, 16);
+            let tree: Tracer<f32> = Tracer::new(scene.view().with_bvh(&bvh).unwrap(), TraceSettings::default()).unwrap();
+            let renderer = Renderer { tracer: tree, camera, aov };
+            for isa in isas() {
+                for (w, (img, stats)) in [
+                    (1, render::<1>(&renderer, Some(isa), 16)),
+                    (4, render::<4>(&renderer, Some(isa), 16)),
+                    (8, render::<8>(&renderer, Some(isa), 16)),
+                ] {
+                    assert!(img == reference, "bvh case {case} {aov:?}: {isa} width {w} differs from brute force");
+                    assert_eq!(stats, ref_stats, "bvh case {case} {aov:?}: {isa} width {w} traced different rays");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn isa_views_carry_the_leaf_tests_of_their_isa() {
+    // The token that picks the compiled copy of the BVH leaf tests follows
+    // the instruction set actually used (baseline where the CPU lacks one).
+    let mut rng = Rng(5);
+    let scene = random_scene(&mut rng, 10);
+    let mut bvh: Box<Bvh<f32, 16>> = Box::new(Bvh::new());
+    bvh.build(&scene.view()).unwrap();
+    let view = scene.view().with_bvh(&bvh).unwrap();
+    assert_eq!(view.bvh().unwrap().leaf_isa().name(), "plain");
+    for isa in Isa::ALL {
+        let expect = match isa.effective() {
+            Isa::Baseline => "plain",
+            other => other.name(),
+        };
+        assert_eq!(isa.view(view).bvh().unwrap().leaf_isa().name(), expect, "{isa}");
+        assert_eq!(isa.leaf_isa().name(), expect, "{isa}");
+    }
+    // A view without a tree stays without one.
+    assert!(Isa::best().view(scene.view()).bvh().is_none());
+}
+
+#[test]
 fn this_machine_runs_the_avx2_path_if_it_has_avx2() {
     // Not a speed test: only that detection and the dispatcher agree, so the
     // comparisons above really ran the AVX2 copy where the CPU has one.

@@ -192,7 +192,9 @@ pub fn sphere_pass<const W: usize>(isa: Isa, spheres: &[Sphere<f32>], packets: &
 /// Runs a [`ScenePass`] compiled for `isa`.
 #[inline(never)]
 pub fn scene_pass<const W: usize>(isa: Isa, view: &SceneView<'_, f32>, packets: &Packets<W>) -> u32 {
-    isa.run(ScenePass { view, packets })
+    // The BVH leaf tests (compiled apart from the inlined path) in `isa` too.
+    let view = isa.view(*view);
+    isa.run(ScenePass { view: &view, packets })
 }
 
 /// Runs the bare kernels of a scene's primitives (through the `Shape`

@@ -36,12 +36,14 @@
 //! the same scene gives the same tree on every target.
 
 mod build;
+pub mod isa;
 mod traverse;
 
 #[cfg(test)]
 mod tests;
 
 use crate::scalar::Scalar;
+pub use isa::LeafIsa;
 use crate::scene::SceneView;
 use crate::vec3::Vec3;
 
@@ -205,6 +207,7 @@ impl<S: Scalar, const N: usize> Bvh<S, N> {
             nodes: &flat[..used.min(flat.len())],
             order: &self.order[..self.stats.primitives as usize],
             bounded: self.stats.primitives - self.stats.unbounded,
+            leaf_isa: LeafIsa::PLAIN,
         }
     }
 }
@@ -218,9 +221,19 @@ pub struct BvhView<'a, S> {
     order: &'a [u32],
     /// Length of the bounded part of `order`.
     bounded: u32,
+    /// Which compiled copy of the leaf tests the traversal calls.
+    leaf_isa: LeafIsa,
 }
 
 impl<'a, S: Scalar> BvhView<'a, S> {
+    /// The same view, its traversals calling the leaf tests of `isa`.
+    pub(crate) fn with_leaf_isa(self, leaf_isa: LeafIsa) -> Self {
+        BvhView { leaf_isa, ..self }
+    }
+    /// The instruction set of the leaf tests its traversals call.
+    pub fn leaf_isa(&self) -> LeafIsa {
+        self.leaf_isa
+    }
     /// Number of primitives the tree was built for.
     pub fn primitive_count(&self) -> usize {
         self.order.len()

@@ -111,12 +111,22 @@ fn index_below<const W: usize>(k: u32, best: &[u32; W]) -> Mask<W> {
 /// `inline(always)` methods rather than closures: closures cannot be marked
 /// `inline(always)`, and code left out of line is compiled for the baseline
 /// instruction set only, not for the dispatched AVX2/AVX-512 copies.)
-trait LeafVisitor<S, const W: usize> {
+pub(super) trait LeafVisitor<S, const W: usize> {
     /// The far end of the segments still of interest, the lanes still
     /// live, and whether to go on at all.
     fn state(&self) -> (Lanes<S, W>, Mask<W>, bool);
-    /// Tests primitives `ids` for the lanes `m`.
-    fn leaf(&mut self, ids: &[u32], m: Mask<W>);
+    /// Tests primitives `ids` for the lanes `m` (inlined where it is called:
+    /// the per-instruction-set copies of `super::isa` call this).
+    fn leaf_inlined(&mut self, ids: &[u32], m: Mask<W>);
+    /// [`LeafVisitor::leaf_inlined`] as a function of its own: the plain
+    /// build's copy, which [`LeafIsa::PLAIN`](super::isa::LeafIsa) calls.
+    /// Not forced inline: inlined at its call sites into every dispatched
+    /// copy of the render path, it made release builds several times slower
+    /// (and, on a Cortex-M0, overflowed the flash).
+    #[cfg_attr(not(any(target_arch = "x86_64", target_arch = "x86")), inline(never))]
+    fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
+        self.leaf_inlined(ids, m)
+    }
 }
 
 /// Visits the leaves whose boxes some lane of the visitor's live lanes
@@ -141,7 +151,7 @@ fn walk<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(bvh: &BvhView<'_, S>, s
             let m = slab.hits(n, t_min, t_far, live);
             if m.any() {
                 if n.is_leaf() {
-                    visitor.leaf(bvh.leaf_primitives(n), m);
+                    bvh.leaf_isa.leaf(visitor, bvh.leaf_primitives(n), m);
                 } else if let Some(slot) = stack.get_mut(sp) {
                     let first = n.link();
                     let (near, far) = if slab.dir_neg.get(n.axis()).copied().unwrap_or(false) { (first + 1, first) } else { (first, first + 1) };
@@ -182,13 +192,8 @@ impl<S: Scalar, const W: usize> LeafVisitor<S, W> for ClosestHit<'_, '_, S, W> {
         (self.best_t, self.active, true)
     }
 
-    // Not forced inline: inlined at its two call sites into every
-    // dispatched copy of the render path, it made release builds several
-    // times slower (and, on a Cortex-M0, overflowed the flash). Out of line,
-    // BVH leaf tests run the baseline instruction set (`scripts/check-asm.sh`
-    // lists the call). Kept out of line on the firmware targets.
-    #[cfg_attr(not(any(target_arch = "x86_64", target_arch = "x86")), inline(never))]
-    fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn leaf_inlined(&mut self, ids: &[u32], m: Mask<W>) {
         let prims = self.scene.primitives();
         let verts = self.scene.vertices();
         for &k in ids {
@@ -228,13 +233,8 @@ impl<S: Scalar, const W: usize> LeafVisitor<S, W> for Shadow<'_, '_, S, W> {
         (self.t_max, self.live, self.live.any() && !self.overflow)
     }
 
-    // Not forced inline: inlined at its two call sites into every
-    // dispatched copy of the render path, it made release builds several
-    // times slower (and, on a Cortex-M0, overflowed the flash). Out of line,
-    // BVH leaf tests run the baseline instruction set (`scripts/check-asm.sh`
-    // lists the call). Kept out of line on the firmware targets.
-    #[cfg_attr(not(any(target_arch = "x86_64", target_arch = "x86")), inline(never))]
-    fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn leaf_inlined(&mut self, ids: &[u32], m: Mask<W>) {
         let prims = self.scene.primitives();
         let verts = self.scene.vertices();
         let materials = self.scene.materials();
@@ -278,7 +278,7 @@ impl<'a, S: Scalar> BvhView<'a, S> {
         let mut q = ClosestHit { scene, ray, t_min, active, best_t: t_max, best_id: [u32::MAX; W], found: Mask::splat(false) };
         if active.any() {
             // Primitives outside the tree first, then the tree.
-            q.leaf(self.unbounded(), active);
+            self.leaf_isa.leaf(&mut q, self.unbounded(), active);
             let slab = SlabRays::new(ray, active);
             walk(self, &slab, t_min, &mut q);
         }
@@ -309,7 +309,7 @@ impl<'a, S: Scalar> BvhView<'a, S> {
             recorded: 0,
             overflow: false,
         };
-        q.leaf(self.unbounded(), active);
+        self.leaf_isa.leaf(&mut q, self.unbounded(), active);
         if q.live.any() && !q.overflow {
             let slab = SlabRays::new(ray, active);
             walk(self, &slab, t_min, &mut q);
