@@ -63,6 +63,12 @@ pub trait Scalar:
     /// scene points) stay representable; see [`crate::range`]. Unlimited
     /// (`f32::MAX`) for `f32`.
     const COORDINATE_LIMIT: f32 = f32::MAX;
+    /// Whether the instruction-set dispatcher (`dispatch`, std) should use
+    /// BVH leaf tests compiled for AVX2/AVX-512 with this type (see
+    /// [`crate::bvh::isa`]). `true` for `f32`, whose packed arithmetic gains
+    /// from wider registers; `false` by default (fixed point's 128-bit
+    /// products do not vectorize, and each copy costs compile time).
+    const ISA_LEAVES: bool = false;
 
     /// Converts from `f32` (set-up time only: scene input, camera angles).
     /// Out-of-range values saturate; NaN becomes zero.
@@ -131,6 +137,7 @@ pub trait Scalar:
 }
 
 impl Scalar for f32 {
+    const ISA_LEAVES: bool = true;
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const HALF: Self = 0.5;

@@ -20,6 +20,7 @@
 
 use super::traverse::LeafVisitor;
 use crate::lanes::Mask;
+use crate::scalar::Scalar;
 
 /// The instruction set of the leaf tests a traversal calls. The default is
 /// the plain build (whatever the target compiles for).
@@ -73,8 +74,18 @@ impl LeafIsa {
 
     /// Runs `visitor`'s leaf test on `ids` for the lanes `m`, in the copy
     /// this token names.
+    ///
+    /// Only packets of 8 or more lanes of a scalar with
+    /// [`Scalar::ISA_LEAVES`] take the per-instruction-set copies (narrower
+    /// packets fit SSE2 registers): the condition is a constant of each
+    /// instantiation (an inline `const`), so the other instantiations
+    /// compile no extra copies (the compiler skips code behind a constant
+    /// false condition when it collects what to compile).
     #[cfg_attr(not(debug_assertions), inline(always))]
-    pub(super) fn leaf<S, const W: usize, V: LeafVisitor<S, W>>(self, visitor: &mut V, ids: &[u32], m: Mask<W>) {
+    pub(super) fn leaf<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(self, visitor: &mut V, ids: &[u32], m: Mask<W>) {
+        if const { W < 8 || !S::ISA_LEAVES } {
+            return visitor.leaf(ids, m);
+        }
         match self.0 {
             Kind::Plain => visitor.leaf(ids, m),
             #[cfg(target_arch = "x86_64")]
