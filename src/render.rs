@@ -122,6 +122,7 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
             }
             aov => {
                 stats.primary = stats.primary.saturating_add(active.count() as u64);
+                stats.primary_packets = stats.primary_packets.saturating_add(u64::from(active.any()));
                 let scene = self.tracer.scene();
                 let hit = scene.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
                 let surf = if aov == Aov::Normal { Some(self.tracer.surface(ray, &hit)) } else { None };

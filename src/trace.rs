@@ -53,7 +53,13 @@ impl<S: Scalar> Default for TraceSettings<S> {
     }
 }
 
-/// Numbers of rays traced, by kind (one per active lane).
+/// Numbers of rays traced, by kind (one per active lane), and of the
+/// packets that carried them.
+///
+/// The ray counts do not depend on the packet width ([`RayStats::rays`]);
+/// the packet counts do, and rays ÷ (packets × width) is how full the
+/// packets were ([`RayStats::lanes_per_packet`]): what regrouping the live
+/// lanes of several packets (compaction) could at best recover.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RayStats {
     /// Camera rays.
@@ -64,6 +70,14 @@ pub struct RayStats {
     pub reflected: u64,
     /// Refracted rays.
     pub refracted: u64,
+    /// Packets of camera rays traced (each with at least one active lane).
+    pub primary_packets: u64,
+    /// Packets of shadow rays traced (one per packet, light and lit lane set).
+    pub shadow_packets: u64,
+    /// Packets of reflected rays traced.
+    pub reflected_packets: u64,
+    /// Packets of refracted rays traced.
+    pub refracted_packets: u64,
 }
 
 impl RayStats {
@@ -74,12 +88,38 @@ impl RayStats {
             .saturating_add(self.reflected)
             .saturating_add(self.refracted)
     }
+    /// Rays by kind: primary, shadow, reflected, refracted. The same for
+    /// every packet width.
+    pub fn rays(&self) -> [u64; 4] {
+        [self.primary, self.shadow, self.reflected, self.refracted]
+    }
+    /// Packets by kind, in the order of [`RayStats::rays`].
+    pub fn packets(&self) -> [u64; 4] {
+        [self.primary_packets, self.shadow_packets, self.reflected_packets, self.refracted_packets]
+    }
+    /// Average active lanes per packet, by kind (order of
+    /// [`RayStats::rays`]); 0 for a kind with no packets. At most the
+    /// packet width.
+    pub fn lanes_per_packet(&self) -> [f64; 4] {
+        let (r, p) = (self.rays(), self.packets());
+        let mut out = [0.0; 4];
+        for i in 0..4 {
+            if p[i] > 0 {
+                out[i] = r[i] as f64 / p[i] as f64;
+            }
+        }
+        out
+    }
     /// Adds another tally to this one (saturating).
     pub fn merge(&mut self, o: &RayStats) {
         self.primary = self.primary.saturating_add(o.primary);
         self.shadow = self.shadow.saturating_add(o.shadow);
         self.reflected = self.reflected.saturating_add(o.reflected);
         self.refracted = self.refracted.saturating_add(o.refracted);
+        self.primary_packets = self.primary_packets.saturating_add(o.primary_packets);
+        self.shadow_packets = self.shadow_packets.saturating_add(o.shadow_packets);
+        self.reflected_packets = self.reflected_packets.saturating_add(o.reflected_packets);
+        self.refracted_packets = self.refracted_packets.saturating_add(o.refracted_packets);
     }
 }
 
@@ -214,10 +254,20 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
         let bg = self.scene.background();
         while let Some(p) = stack.pop() {
             let n = p.active.count() as u64;
+            let one = u64::from(n > 0);
             match p.kind {
-                RayKind::Primary => stats.primary = stats.primary.saturating_add(n),
-                RayKind::Reflected => stats.reflected = stats.reflected.saturating_add(n),
-                RayKind::Refracted => stats.refracted = stats.refracted.saturating_add(n),
+                RayKind::Primary => {
+                    stats.primary = stats.primary.saturating_add(n);
+                    stats.primary_packets = stats.primary_packets.saturating_add(one);
+                }
+                RayKind::Reflected => {
+                    stats.reflected = stats.reflected.saturating_add(n);
+                    stats.reflected_packets = stats.reflected_packets.saturating_add(one);
+                }
+                RayKind::Refracted => {
+                    stats.refracted = stats.refracted.saturating_add(n);
+                    stats.refracted_packets = stats.refracted_packets.saturating_add(one);
+                }
             }
             let hit = self.scene.closest_hit(&p.ray, zero, Lanes::splat(S::MAX), p.active);
             // Rays that hit nothing see the background.
@@ -279,6 +329,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
             }
             let trans = if shadows {
                 stats.shadow = stats.shadow.saturating_add(lit.count() as u64);
+                stats.shadow_packets = stats.shadow_packets.saturating_add(1);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
                 self.scene.transmittance(&shadow, zero, dist, lit)
             } else {

@@ -282,8 +282,17 @@ fn bench_prints_one_line_per_measurement() {
     assert_eq!(lines.len(), 10, "{out}");
     let mut whitted_rays = None;
     for f in &bench {
-        for key in ["scene", "size", "scalar", "accel", "measure", "isa", "packet", "threads", "rays", "best_s", "median_s", "mrays_per_s", "vs_packet1", "vs_1thread"] {
+        for key in ["scene", "size", "scalar", "accel", "measure", "isa", "packet", "threads", "rays", "best_s", "median_s", "mrays_per_s", "vs_packet1", "vs_1thread", "lanes_primary", "lanes_shadow", "lanes_reflected", "lanes_refracted"] {
             assert!(f.contains_key(key), "{key} missing in {f:?}");
+        }
+        // Lanes per packet: 1 at packet 1, between 1 and the width otherwise
+        // (40 × 24 pixels fill every primary packet of 8).
+        let packet: f64 = f["packet"].parse().unwrap();
+        assert_eq!(f["lanes_primary"], format!("{packet:.2}"), "{f:?}");
+        for kind in ["shadow", "reflected", "refracted"] {
+            let lanes: f64 = f[&*format!("lanes_{kind}")].parse().unwrap();
+            let traced = f["measure"] == "whitted" && (kind == "shadow" || lanes > 0.0);
+            assert!(if traced { (1.0..=packet).contains(&lanes) } else { lanes == 0.0 }, "{kind}: {f:?}");
         }
         let best: f64 = f["best_s"].parse().unwrap();
         let median: f64 = f["median_s"].parse().unwrap();

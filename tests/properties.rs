@@ -386,3 +386,39 @@ fn trace_never_returns_nan_even_for_degenerate_rays() {
     }
     assert_eq!(st.primary, 0);
 }
+
+#[test]
+fn packet_counts_bound_the_ray_counts_at_every_width() {
+    // Rays by kind are the same at every width; packets carry 1 to W of
+    // them, so packets ≤ rays ≤ W · packets, with equality at width 1.
+    let scene = raypack::demo::demo_scene::<f32>().unwrap();
+    let camera = raypack::demo::demo_camera::<f32>(40, 30).unwrap();
+    let mut rng = Rng(99);
+    let random = random_scene(&mut rng, 24);
+    let random_cam = random_camera(&mut rng, 33, 17);
+    for (what, view, cam) in [("demo", scene.view(), camera), ("random", random.view(), random_cam)] {
+        for aov in [Aov::Color, Aov::Id] {
+            let (_, s1) = render::<1>(&view, cam, TraceSettings::default(), aov, 16);
+            let (_, s4) = render::<4>(&view, cam, TraceSettings::default(), aov, 16);
+            let (_, s8) = render::<8>(&view, cam, TraceSettings::default(), aov, 16);
+            assert_eq!(s1.packets(), s1.rays(), "{what} {aov:?}: width 1 packets carry one ray each");
+            assert_eq!(s1.primary, (cam.width() * cam.height()) as u64);
+            for (w, s) in [(4u64, s4), (8, s8)] {
+                assert_eq!(s.rays(), s1.rays(), "{what} {aov:?} width {w}");
+                for k in 0..4 {
+                    let (r, p) = (s.rays()[k], s.packets()[k]);
+                    assert!(p <= r && r <= w * p, "{what} {aov:?} width {w} kind {k}: {r} rays in {p} packets");
+                    assert!(s.lanes_per_packet()[k] <= w as f64);
+                }
+                assert!(s.primary_packets < s1.primary_packets, "{what}: width {w} packs primary rays");
+            }
+            if aov == Aov::Color && what == "demo" {
+                // Whitted mode traces shadow and secondary rays here.
+                assert!(s8.shadow > 0 && s8.reflected + s8.refracted > 0, "{what}: {s8:?}");
+            }
+            let mut merged = s4;
+            merged.merge(&s8);
+            assert_eq!(merged.packets()[1], s4.shadow_packets + s8.shadow_packets);
+        }
+    }
+}

@@ -83,6 +83,8 @@ struct Config {
     threads: u32,
     times: Vec<f64>,
     rays: u64,
+    /// Average active lanes per packet by kind (primary, shadow, reflected, refracted).
+    lanes: [f64; 4],
 }
 
 pub fn run(args: &BenchArgs) -> Result<(), Failure> {
@@ -184,7 +186,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
                 let isa = S::isa_used(asked, packet);
                 for &t in &threads {
                     if !configs.iter().any(|c| c.measure == measure && c.isa == isa && c.packet == packet && c.threads == t) {
-                        configs.push(Config { measure, isa, packet, threads: t, times: Vec::new(), rays: 0 });
+                        configs.push(Config { measure, isa, packet, threads: t, times: Vec::new(), rays: 0, lanes: [0.0; 4] });
                     }
                 }
             }
@@ -201,6 +203,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
             let (pixels, stats) = tiles::render_image(renderer, c.packet, c.isa, pool, &nothing)?;
             c.times.push(start.elapsed().as_secs_f64());
             c.rays = stats.total();
+            c.lanes = stats.lanes_per_packet();
             match &reference[slot] {
                 None => reference[slot] = Some(pixels),
                 Some(r) if *r == pixels => {}
@@ -228,6 +231,10 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
             median(&c.times),
             if b > 0.0 { c.rays as f64 / b / 1e6 } else { 0.0 }
         );
+        // How full the packets were (compaction could at best fill them).
+        for (kind, lanes) in ["primary", "shadow", "reflected", "refracted"].iter().zip(c.lanes) {
+            line += &format!(" lanes_{kind}={lanes:.2}");
+        }
         let find = |packet: usize, threads: u32| {
             let isa = S::isa_used(c.isa, packet);
             configs.iter().find(|o| o.measure == c.measure && o.isa == isa && o.packet == packet && o.threads == threads)

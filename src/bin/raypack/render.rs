@@ -57,6 +57,15 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             s.refracted,
             rate / 1e6
         );
+        let l = s.lanes_per_packet();
+        eprintln!(
+            "raypack: active lanes per packet of {}: {:.2} primary, {:.2} shadow, {:.2} reflected, {:.2} refracted",
+            args.packet.width(),
+            l[0],
+            l[1],
+            l[2],
+            l[3]
+        );
         match r.accel {
             Some((b, built)) => eprintln!(
                 "raypack: bvh: {} nodes ({} leaves, depth {}), {} primitives outside the tree, built in {:.2} ms",
