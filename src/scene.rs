@@ -480,6 +480,8 @@ impl<'a, S: Scalar> SceneView<'a, S> {
 
     /// The same view, its BVH traversals (if a tree is attached) calling
     /// the leaf tests of `isa` (see [`crate::bvh::isa`]).
+    // (Only the std dispatcher switches instruction sets.)
+    #[cfg_attr(not(feature = "std"), allow(dead_code))]
     pub(crate) fn with_leaf_isa(self, isa: crate::bvh::LeafIsa) -> Self {
         SceneView { bvh: self.bvh.map(|b| b.with_leaf_isa(isa)), ..self }
     }

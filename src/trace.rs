@@ -193,6 +193,8 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
         &self.scene
     }
     /// The same tracer, its BVH traversals calling the leaf tests of `isa`.
+    // (Only the std dispatcher switches instruction sets.)
+    #[cfg_attr(not(feature = "std"), allow(dead_code))]
     pub(crate) fn with_leaf_isa(self, isa: crate::bvh::LeafIsa) -> Self {
         Tracer { scene: self.scene.with_leaf_isa(isa), ..self }
     }

@@ -227,6 +227,8 @@ pub struct BvhView<'a, S> {
 
 impl<'a, S: Scalar> BvhView<'a, S> {
     /// The same view, its traversals calling the leaf tests of `isa`.
+    // (Only the std dispatcher switches instruction sets.)
+    #[cfg_attr(not(feature = "std"), allow(dead_code))]
     pub(crate) fn with_leaf_isa(self, leaf_isa: LeafIsa) -> Self {
         BvhView { leaf_isa, ..self }
     }
