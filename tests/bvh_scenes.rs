@@ -9,29 +9,7 @@ use common::*;
 use raypack::nff;
 use raypack::prelude::*;
 
-type Big = Scene<f32, 16384, 65536, 64, 16>;
 type BigBvh = Bvh<f32, 16384>;
-
-const SCENES: [(&str, &str); 18] = [
-    ("balls-1", include_str!("scenes/balls-1.nff")),
-    ("balls-2", include_str!("scenes/balls-2.nff")),
-    ("gears-1", include_str!("scenes/gears-1.nff")),
-    ("gears-2", include_str!("scenes/gears-2.nff")),
-    ("jacks-1", include_str!("scenes/jacks-1.nff")),
-    ("lattice-1", include_str!("scenes/lattice-1.nff")),
-    ("mount-1", include_str!("scenes/mount-1.nff")),
-    ("mount-2", include_str!("scenes/mount-2.nff")),
-    ("rings-1", include_str!("scenes/rings-1.nff")),
-    ("shells-1", include_str!("scenes/shells-1.nff")),
-    ("sombrero-1", include_str!("scenes/sombrero-1.nff")),
-    ("teapot-1", include_str!("scenes/teapot-1.nff")),
-    ("teapot-2", include_str!("scenes/teapot-2.nff")),
-    ("tetra-1", include_str!("scenes/tetra-1.nff")),
-    ("tetra-2", include_str!("scenes/tetra-2.nff")),
-    ("tree-1", include_str!("scenes/tree-1.nff")),
-    ("tree-2", include_str!("scenes/tree-2.nff")),
-    ("extensions", include_str!("scenes/extensions.nff")),
-];
 
 /// Image size: small, the scenes are large.
 const SIZE: u32 = 64;

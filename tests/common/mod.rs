@@ -224,3 +224,29 @@ pub fn render_in<S: Scalar, const W: usize>(scene: &SceneView<'_, S>, camera: Ca
     }
     (img, stats)
 }
+
+/// Every scene file in `tests/scenes/`: the 17 SPD databases and the
+/// extension sample, by name.
+pub const SCENES: [(&str, &str); 18] = [
+    ("balls-1", include_str!("../scenes/balls-1.nff")),
+    ("balls-2", include_str!("../scenes/balls-2.nff")),
+    ("gears-1", include_str!("../scenes/gears-1.nff")),
+    ("gears-2", include_str!("../scenes/gears-2.nff")),
+    ("jacks-1", include_str!("../scenes/jacks-1.nff")),
+    ("lattice-1", include_str!("../scenes/lattice-1.nff")),
+    ("mount-1", include_str!("../scenes/mount-1.nff")),
+    ("mount-2", include_str!("../scenes/mount-2.nff")),
+    ("rings-1", include_str!("../scenes/rings-1.nff")),
+    ("shells-1", include_str!("../scenes/shells-1.nff")),
+    ("sombrero-1", include_str!("../scenes/sombrero-1.nff")),
+    ("teapot-1", include_str!("../scenes/teapot-1.nff")),
+    ("teapot-2", include_str!("../scenes/teapot-2.nff")),
+    ("tetra-1", include_str!("../scenes/tetra-1.nff")),
+    ("tetra-2", include_str!("../scenes/tetra-2.nff")),
+    ("tree-1", include_str!("../scenes/tree-1.nff")),
+    ("tree-2", include_str!("../scenes/tree-2.nff")),
+    ("extensions", include_str!("../scenes/extensions.nff")),
+];
+
+/// A scene big enough for every file of [`SCENES`] (gears-2 is the largest).
+pub type Big = Scene<f32, 16384, 65536, 64, 16>;
