@@ -77,11 +77,7 @@ fn isas() -> Vec<Isa> {
     v
 }
 
-fn scene_workload(name: &str, n: usize, size: u32, rounds: u32) {
-    scene_workload_with(name, n, size, rounds, false)
-}
-
-fn scene_workload_with(name: &str, n: usize, size: u32, rounds: u32, with_bvh: bool) {
+fn scene_workload(name: &str, n: usize, size: u32, rounds: u32, with_bvh: bool) {
     let scene = sphere_grid(n);
     let mut bvh: Box<Bvh<f32, 1024>> = Box::new(Bvh::new());
     let view = if with_bvh {
@@ -167,14 +163,14 @@ fn main() {
     let rounds: u32 = a.get(2).and_then(|s| s.parse().ok()).unwrap_or(30);
     println!("# best of {rounds} interleaved rounds; best ISA here: {}", Isa::best());
     match workload {
-        "scene" => scene_workload("primary", 16, 256, rounds),
+        "scene" => scene_workload("primary", 16, 256, rounds, false),
         "kernel" => {
             kind_workload("sphere", rounds);
             sphere_kernel_workload(rounds);
         }
         "grid" => {
             for n in [1, 16, 64, 256] {
-                scene_workload("primary", n, 1024, rounds);
+                scene_workload("primary", n, 1024, rounds, false);
             }
         }
         "kinds" => {
@@ -184,7 +180,7 @@ fn main() {
         }
         "grid-bvh" => {
             for n in [1, 16, 64, 256, 1024] {
-                scene_workload_with("primary", n, 1024, rounds, true);
+                scene_workload("primary", n, 1024, rounds, true);
             }
         }
         "render" => render_workload(rounds),

@@ -222,7 +222,6 @@ pub fn render_rect<S: Scalar, const D: usize, const W: usize>(
     out: &mut [Rgb8],
     stats: &mut RayStats,
 ) -> Result<(), BufferTooSmall> {
-    let isa = isa.effective();
     // The same renderer, its BVH leaf tests (compiled apart from the
     // inlined path, see `crate::bvh::isa`) in the same instruction set.
     let mut local = *renderer;

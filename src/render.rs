@@ -121,8 +121,7 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
                 }
             }
             aov => {
-                stats.primary = stats.primary.saturating_add(active.count() as u64);
-                stats.primary_packets = stats.primary_packets.saturating_add(u64::from(active.any()));
+                stats.add_primary(active.count() as u64);
                 let scene = self.tracer.scene();
                 let hit = scene.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
                 let surf = if aov == Aov::Normal { Some(self.tracer.surface(ray, &hit)) } else { None };

@@ -110,6 +110,16 @@ impl RayStats {
         }
         out
     }
+    /// Counts one packet of `n` active rays into `rays` and `packets`
+    /// (saturating; a packet with no active lane is not a packet).
+    fn tally(rays: &mut u64, packets: &mut u64, n: u64) {
+        *rays = rays.saturating_add(n);
+        *packets = packets.saturating_add(u64::from(n > 0));
+    }
+    /// Counts a packet of `n` camera rays.
+    pub(crate) fn add_primary(&mut self, n: u64) {
+        Self::tally(&mut self.primary, &mut self.primary_packets, n);
+    }
     /// Adds another tally to this one (saturating).
     pub fn merge(&mut self, o: &RayStats) {
         self.primary = self.primary.saturating_add(o.primary);
@@ -256,20 +266,10 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
         let bg = self.scene.background();
         while let Some(p) = stack.pop() {
             let n = p.active.count() as u64;
-            let one = u64::from(n > 0);
             match p.kind {
-                RayKind::Primary => {
-                    stats.primary = stats.primary.saturating_add(n);
-                    stats.primary_packets = stats.primary_packets.saturating_add(one);
-                }
-                RayKind::Reflected => {
-                    stats.reflected = stats.reflected.saturating_add(n);
-                    stats.reflected_packets = stats.reflected_packets.saturating_add(one);
-                }
-                RayKind::Refracted => {
-                    stats.refracted = stats.refracted.saturating_add(n);
-                    stats.refracted_packets = stats.refracted_packets.saturating_add(one);
-                }
+                RayKind::Primary => stats.add_primary(n),
+                RayKind::Reflected => RayStats::tally(&mut stats.reflected, &mut stats.reflected_packets, n),
+                RayKind::Refracted => RayStats::tally(&mut stats.refracted, &mut stats.refracted_packets, n),
             }
             let hit = self.scene.closest_hit(&p.ray, zero, Lanes::splat(S::MAX), p.active);
             // Rays that hit nothing see the background.
@@ -330,8 +330,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
                 continue;
             }
             let trans = if shadows {
-                stats.shadow = stats.shadow.saturating_add(lit.count() as u64);
-                stats.shadow_packets = stats.shadow_packets.saturating_add(1);
+                RayStats::tally(&mut stats.shadow, &mut stats.shadow_packets, lit.count() as u64);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
                 self.scene.transmittance(&shadow, zero, dist, lit)
             } else {

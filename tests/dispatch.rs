@@ -60,14 +60,19 @@ fn isas() -> Vec<Isa> {
 
 /// Every dispatched render equals the direct baseline render, at every width.
 fn check(renderer: &Renderer<'_, f32>, what: &str) {
-    let (reference, ref_stats) = render::<1>(renderer, None, 16);
+    check_against(renderer, render::<1>(renderer, None, 16), what)
+}
+
+/// Every dispatched render of `renderer`, at every width, equals `reference`
+/// (its image and the rays it traced).
+fn check_against(renderer: &Renderer<'_, f32>, (reference, ref_stats): (Vec<Rgb8>, RayStats), what: &str) {
     for isa in isas() {
         for (w, (img, stats)) in [
             (1, render::<1>(renderer, Some(isa), 16)),
             (4, render::<4>(renderer, Some(isa), 16)),
             (8, render::<8>(renderer, Some(isa), 16)),
         ] {
-            assert!(img == reference, "{what}: {isa} width {w} differs from the baseline render");
+            assert!(img == reference, "{what}: {isa} width {w} differs from the reference");
             assert_eq!(stats.rays(), ref_stats.rays(), "{what}: {isa} width {w} traced different rays");
         }
     }
@@ -112,19 +117,9 @@ fn every_isa_renders_bvh_scenes_to_the_bytes_of_brute_force() {
         bvh.build(&scene.view()).unwrap();
         for aov in [Aov::Color, Aov::Id] {
             let plain: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
-            let (reference, ref_stats) = render::<1>(&Renderer { tracer: plain, camera, aov }, None, 16);
+            let brute_force = render::<1>(&Renderer { tracer: plain, camera, aov }, None, 16);
             let tree: Tracer<f32> = Tracer::new(scene.view().with_bvh(&bvh).unwrap(), TraceSettings::default()).unwrap();
-            let renderer = Renderer { tracer: tree, camera, aov };
-            for isa in isas() {
-                for (w, (img, stats)) in [
-                    (1, render::<1>(&renderer, Some(isa), 16)),
-                    (4, render::<4>(&renderer, Some(isa), 16)),
-                    (8, render::<8>(&renderer, Some(isa), 16)),
-                ] {
-                    assert!(img == reference, "bvh case {case} {aov:?}: {isa} width {w} differs from brute force");
-                    assert_eq!(stats.rays(), ref_stats.rays(), "bvh case {case} {aov:?}: {isa} width {w} traced different rays");
-                }
-            }
+            check_against(&Renderer { tracer: tree, camera, aov }, brute_force, &format!("bvh case {case} {aov:?} (vs brute force)"));
         }
     }
 }

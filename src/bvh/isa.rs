@@ -22,8 +22,9 @@ use super::traverse::LeafVisitor;
 use crate::lanes::Mask;
 use crate::scalar::Scalar;
 
-/// The instruction set of the leaf tests a traversal calls. The default is
-/// the plain build (whatever the target compiles for).
+/// The instruction set of the leaf tests a traversal calls. The default
+/// (`LeafIsa::default()`, the only public way to make one) is the plain
+/// build: whatever the target compiles for.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LeafIsa(Kind);
 
@@ -38,9 +39,6 @@ enum Kind {
 }
 
 impl LeafIsa {
-    /// The plain build's leaf tests.
-    pub(crate) const PLAIN: LeafIsa = LeafIsa(Kind::Plain);
-
     /// Leaf tests compiled with AVX2 (no FMA).
     ///
     /// # Safety

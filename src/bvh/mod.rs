@@ -207,7 +207,7 @@ impl<S: Scalar, const N: usize> Bvh<S, N> {
             nodes: &flat[..used.min(flat.len())],
             order: &self.order[..self.stats.primitives as usize],
             bounded: self.stats.primitives - self.stats.unbounded,
-            leaf_isa: LeafIsa::PLAIN,
+            leaf_isa: LeafIsa::default(),
         }
     }
 }

@@ -119,7 +119,7 @@ pub(super) trait LeafVisitor<S, const W: usize> {
     /// the per-instruction-set copies of `super::isa` call this).
     fn leaf_inlined(&mut self, ids: &[u32], m: Mask<W>);
     /// [`LeafVisitor::leaf_inlined`] as a function of its own: the plain
-    /// build's copy, which [`LeafIsa::PLAIN`](super::isa::LeafIsa) calls.
+    /// build's copy, which the default [`LeafIsa`](super::isa::LeafIsa) calls.
     /// Not forced inline: inlined at its call sites into every dispatched
     /// copy of the render path, it made release builds several times slower
     /// (and, on a Cortex-M0, overflowed the flash).

@@ -82,9 +82,8 @@ struct Config {
     packet: usize,
     threads: u32,
     times: Vec<f64>,
-    rays: u64,
-    /// Average active lanes per packet by kind (primary, shadow, reflected, refracted).
-    lanes: [f64; 4],
+    /// What the last render traced (rays and packets by kind).
+    stats: RayStats,
 }
 
 pub fn run(args: &BenchArgs) -> Result<(), Failure> {
@@ -186,7 +185,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
                 let isa = S::isa_used(asked, packet);
                 for &t in &threads {
                     if !configs.iter().any(|c| c.measure == measure && c.isa == isa && c.packet == packet && c.threads == t) {
-                        configs.push(Config { measure, isa, packet, threads: t, times: Vec::new(), rays: 0, lanes: [0.0; 4] });
+                        configs.push(Config { measure, isa, packet, threads: t, times: Vec::new(), stats: RayStats::default() });
                     }
                 }
             }
@@ -202,8 +201,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
             let start = Instant::now();
             let (pixels, stats) = tiles::render_image(renderer, c.packet, c.isa, pool, &nothing)?;
             c.times.push(start.elapsed().as_secs_f64());
-            c.rays = stats.total();
-            c.lanes = stats.lanes_per_packet();
+            c.stats = stats;
             match &reference[slot] {
                 None => reference[slot] = Some(pixels),
                 Some(r) if *r == pixels => {}
@@ -226,13 +224,13 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
             c.isa,
             c.packet,
             c.threads,
-            c.rays,
+            c.stats.total(),
             b,
             median(&c.times),
-            if b > 0.0 { c.rays as f64 / b / 1e6 } else { 0.0 }
+            if b > 0.0 { c.stats.total() as f64 / b / 1e6 } else { 0.0 }
         );
         // How full the packets were (compaction could at best fill them).
-        for (kind, lanes) in ["primary", "shadow", "reflected", "refracted"].iter().zip(c.lanes) {
+        for (kind, lanes) in ["primary", "shadow", "reflected", "refracted"].iter().zip(c.stats.lanes_per_packet()) {
             line += &format!(" lanes_{kind}={lanes:.2}");
         }
         let find = |packet: usize, threads: u32| {
