@@ -36,6 +36,30 @@ pub struct Mask<const W: usize>([u32; W]);
 
 const SET: u32 = u32::MAX;
 
+/// Reduces `v` with `f` by folding its upper half onto its lower half until
+/// one word is left: every step is a lane-wise operation on a vector half as
+/// wide, the shape a vectorizer turns into packed instructions at any width
+/// (a left-to-right chain made LLVM split 16-wide masks into 2/2/4/8 pieces).
+/// `f` must be associative and commutative; `empty` is the result for no
+/// words at all.
+#[inline(always)]
+fn fold_halves<const W: usize>(mut v: [u32; W], empty: u32, f: impl Fn(u32, u32) -> u32) -> u32 {
+    let mut n = W;
+    while n > 1 {
+        // Fold the top `h` words onto the bottom `h`; with odd `n` the middle
+        // word stays where it is for the next round.
+        let h = n / 2;
+        for i in 0..h {
+            v[i] = f(v[i], v[i + n - h]);
+        }
+        n -= h;
+    }
+    match v.first() {
+        Some(&r) => r,
+        None => empty,
+    }
+}
+
 #[inline(always)]
 const fn word(v: bool) -> u32 {
     if v {
@@ -87,11 +111,7 @@ impl<const W: usize> Mask<W> {
     /// Whether any lane is set.
     #[inline(always)]
     pub fn any(self) -> bool {
-        let mut r = 0;
-        for i in 0..W {
-            r |= self.0[i];
-        }
-        r != 0
+        fold_halves(self.0, 0, |a, b| a | b) != 0
     }
     /// Whether no lane is set.
     #[inline(always)]
@@ -101,20 +121,16 @@ impl<const W: usize> Mask<W> {
     /// Whether every lane is set.
     #[inline(always)]
     pub fn all(self) -> bool {
-        let mut r = SET;
-        for i in 0..W {
-            r &= self.0[i];
-        }
-        r != 0
+        fold_halves(self.0, SET, |a, b| a & b) != 0
     }
     /// Number of set lanes.
     #[inline(always)]
     pub fn count(self) -> u32 {
-        let mut n = 0;
-        for i in 0..W {
-            n += self.0[i] & 1;
+        let mut ones = self.0;
+        for w in ones.iter_mut() {
+            *w &= 1;
         }
-        n
+        fold_halves(ones, 0, |a, b| a + b)
     }
     /// Lanes set here and not in `other`.
     #[inline(always)]
@@ -199,8 +215,16 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
     #[inline(always)]
     pub fn select(m: Mask<W>, a: Self, b: Self) -> Self {
         let mut r = b.0;
-        for i in 0..W {
-            r[i] = if m.0[i] != 0 { a.0[i] } else { b.0[i] };
+        if W == 1 {
+            // One lane: a plain choice (a branch or a conditional move), as
+            // there is no vectorizer to please.
+            if m.0[0] != 0 {
+                r[0] = a.0[0];
+            }
+        } else {
+            for i in 0..W {
+                r[i] = S::blend(m.0[i], a.0[i], b.0[i]);
+            }
         }
         Lanes(r)
     }
@@ -324,6 +348,66 @@ mod tests {
         assert_eq!(m.count(), 2);
         assert_eq!((!m).to_array(), [true, true, false, false]);
         assert_eq!(m.and_not(Mask::from_array([false, false, true, false])).to_array(), [false, false, false, true]);
+    }
+
+    /// `select` blends bit patterns: NaN payloads, signed zeros and
+    /// subnormals come through untouched, at every width (the `f32` select is
+    /// a bitwise blend, the fixed-point one a plain choice).
+    #[test]
+    fn select_keeps_exact_bits() {
+        fn check<const W: usize>() {
+            let odd = [f32::from_bits(0x7fc0_1234), -0.0, f32::from_bits(1), f32::NEG_INFINITY, 0.0];
+            let a = Lanes::<f32, W>(core::array::from_fn(|i| odd[i % odd.len()]));
+            let b = Lanes::<f32, W>(core::array::from_fn(|i| -(i as f32) - 0.5));
+            let pick: [bool; W] = core::array::from_fn(|i| (i * 7) % 3 == 0);
+            let r = Lanes::select(Mask::from_array(pick), a, b);
+            for i in 0..W {
+                let want = if pick[i] { a.0[i] } else { b.0[i] };
+                assert_eq!(r.0[i].to_bits(), want.to_bits(), "lane {i} of {W}");
+            }
+            let fa = Lanes::<crate::Fixed, W>(core::array::from_fn(|i| crate::Fixed::from_f32(b.0[i])));
+            let fb = Lanes::<crate::Fixed, W>::splat(crate::Fixed::ONE);
+            let fr = Lanes::select(Mask::from_array(pick), fa, fb);
+            for i in 0..W {
+                assert_eq!(fr.0[i], if pick[i] { fa.0[i] } else { fb.0[i] });
+            }
+        }
+        check::<1>();
+        check::<3>();
+        check::<4>();
+        check::<8>();
+        check::<16>();
+    }
+
+    /// The halving reductions agree with a plain count at every width,
+    /// including odd ones (where the middle word waits a round).
+    #[test]
+    fn reductions_at_odd_and_wide_widths() {
+        fn check<const W: usize>(seed: u32) {
+            let mut x = seed;
+            for _ in 0..64 {
+                let bits: [bool; W] = core::array::from_fn(|_| {
+                    x ^= x << 13;
+                    x ^= x >> 17;
+                    x ^= x << 5;
+                    x & 4 != 0
+                });
+                let m = Mask::from_array(bits);
+                let n = bits.iter().filter(|b| **b).count();
+                assert_eq!(m.count() as usize, n);
+                assert_eq!(m.any(), n > 0);
+                assert_eq!(m.all(), n == W);
+                assert_eq!(m.none(), n == 0);
+            }
+            assert!(Mask::<W>::splat(true).all() && Mask::<W>::splat(true).count() as usize == W);
+        }
+        check::<1>(1);
+        check::<2>(2);
+        check::<3>(3);
+        check::<5>(5);
+        check::<7>(7);
+        check::<8>(8);
+        check::<16>(16);
     }
 
     #[test]

@@ -115,6 +115,21 @@ pub trait Scalar:
             other
         }
     }
+    /// `a` where `mask` is set, else `b`: the per-lane step of
+    /// [`crate::lanes::Lanes::select`]. `mask` is a lane word of a
+    /// [`crate::lanes::Mask`], all ones or zero. `f32` overrides it with a
+    /// bitwise blend of the two bit patterns (same result, every bit): LLVM's
+    /// vectorizer keeps a bitwise select of 16 lanes in whole 512-bit
+    /// registers, where the branchy form made it split 16-lane packets into
+    /// shuffled 2/2/4/8-lane pieces with stack spills (3× slower sphere tests).
+    #[inline(always)]
+    fn blend(mask: u32, a: Self, b: Self) -> Self {
+        if mask != 0 {
+            a
+        } else {
+            b
+        }
+    }
     /// Clamps to `[0, 1]`; anything unordered (NaN) becomes 0.
     #[inline(always)]
     fn clamp01(self) -> Self {
@@ -137,6 +152,12 @@ pub trait Scalar:
 }
 
 impl Scalar for f32 {
+    /// Bitwise blend (see [`Scalar::blend`]): exactly `a` or `b`, NaN
+    /// payloads and signed zeros included, as `mask` is all ones or zero.
+    #[inline(always)]
+    fn blend(mask: u32, a: Self, b: Self) -> Self {
+        f32::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
+    }
     const ISA_LEAVES: bool = true;
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
