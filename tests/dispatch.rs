@@ -1,6 +1,6 @@
 //! The instruction-set dispatcher changes speed, never bytes: every available
 //! instruction set renders the demo scene and random scenes (every primitive
-//! kind, mirrors, glass, all AOVs) at widths 1, 4 and 8 to exactly the bytes
+//! kind, mirrors, glass, all AOVs) at widths 1, 4, 8 and 16 to exactly the bytes
 //! of the plain, undispatched baseline render (`Renderer::render_rect`
 //! called directly). The reference is therefore not produced by the code
 //! under test: it is the ordinary build of the same generic code, whose own
@@ -71,6 +71,7 @@ fn check_against(renderer: &Renderer<'_, f32>, (reference, ref_stats): (Vec<Rgb8
             (1, render::<1>(renderer, Some(isa), 16)),
             (4, render::<4>(renderer, Some(isa), 16)),
             (8, render::<8>(renderer, Some(isa), 16)),
+            (16, render::<16>(renderer, Some(isa), 16)),
         ] {
             assert!(img == reference, "{what}: {isa} width {w} differs from the reference");
             assert_eq!(stats.rays(), ref_stats.rays(), "{what}: {isa} width {w} traced different rays");

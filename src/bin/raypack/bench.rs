@@ -23,7 +23,7 @@
 //! bench scene=balls-2 size=512x512 scalar=f32 accel=bvh measure=primary isa=avx2 packet=8 threads=1 rays=262144 best_s=0.012345678 median_s=0.012800000 mrays_per_s=21.235 vs_packet1=4.97 vs_1thread=1.00
 //! ```
 //! `isa` is the instruction set the configuration really ran with: `f32`
-//! packets of 8 run the one asked for (`--isa`), narrower packets and fixed
+//! packets of 8 and 16 run the one asked for (`--isa`), narrower packets and fixed
 //! point the baseline (see `tiles.rs`).
 //! `mrays_per_s` is rays / best time / 10⁶; `vs_packet1` divides the best
 //! time of packet width 1 (same threads) by this one's, `vs_1thread`

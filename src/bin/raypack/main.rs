@@ -59,6 +59,9 @@ enum Packet {
     /// 4×2 pixels per packet.
     #[value(name = "8")]
     Eight,
+    /// 4×4 pixels per packet (one 512-bit register per value with AVX-512).
+    #[value(name = "16")]
+    Sixteen,
 }
 
 impl Packet {
@@ -68,6 +71,7 @@ impl Packet {
             Packet::One => 1,
             Packet::Four => 4,
             Packet::Eight => 8,
+            Packet::Sixteen => 16,
         }
     }
 }

@@ -19,15 +19,15 @@ pub const DEPTH: usize = MAX_DEPTH as usize;
 /// Tile side in pixels.
 pub const TILE: u32 = 32;
 
-/// A scalar type the CLI renders with, and how its packets of 8 reach the
-/// core. (Packets of 1 and 4 always run the plain, baseline `render_rect`.)
+/// A scalar type the CLI renders with, and how its packets of 8 and 16 reach
+/// the core. (Packets of 1 and 4 always run the plain, baseline `render_rect`.)
 pub trait TileScalar: Scalar {
     /// The instruction set tiles of `packet`-wide packets really run with
     /// when `isa` is asked for.
     fn isa_used(isa: Isa, packet: usize) -> Isa;
-    /// Renders one tile with packets of 8 rays, compiled for `isa` where the
-    /// scalar is dispatched.
-    fn render_tile_8(
+    /// Renders one tile with packets of `W` (8 or 16) rays, compiled for
+    /// `isa` where the scalar is dispatched.
+    fn render_tile_wide<const W: usize>(
         isa: Isa,
         renderer: &Renderer<'_, Self, DEPTH>,
         rect: Rect,
@@ -36,7 +36,7 @@ pub trait TileScalar: Scalar {
     ) -> Result<(), BufferTooSmall>;
 }
 
-/// Packets of 8 `f32` rays go through the dispatcher: the render path
+/// Packets of 8 and 16 `f32` rays go through the dispatcher: the render path
 /// compiled for the instruction set asked for. Narrower packets always run
 /// the baseline copy: 1 and 4 lanes of `f32` fit SSE2's 128-bit registers,
 /// so AVX2 and AVX-512 would only re-encode the same work, and every
@@ -44,20 +44,20 @@ pub trait TileScalar: Scalar {
 /// of release compile time.
 impl TileScalar for f32 {
     fn isa_used(isa: Isa, packet: usize) -> Isa {
-        if packet == 8 {
+        if packet >= 8 {
             isa.effective()
         } else {
             Isa::Baseline
         }
     }
-    fn render_tile_8(
+    fn render_tile_wide<const W: usize>(
         isa: Isa,
         renderer: &Renderer<'_, f32, DEPTH>,
         rect: Rect,
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
-        dispatch::render_rect::<f32, DEPTH, 8>(isa, renderer, rect, out, stats)
+        dispatch::render_rect::<f32, DEPTH, W>(isa, renderer, rect, out, stats)
     }
 }
 
@@ -67,14 +67,14 @@ impl TileScalar for Fixed {
     fn isa_used(_: Isa, _: usize) -> Isa {
         Isa::Baseline
     }
-    fn render_tile_8(
+    fn render_tile_wide<const W: usize>(
         _: Isa,
         renderer: &Renderer<'_, Fixed, DEPTH>,
         rect: Rect,
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
-        renderer.render_rect::<8>(rect, out, stats)
+        renderer.render_rect::<W>(rect, out, stats)
     }
 }
 
@@ -110,8 +110,9 @@ pub fn render_image<S: TileScalar>(
                 match packet {
                     1 => renderer.render_rect::<1>(rect, &mut px, &mut stats),
                     4 => renderer.render_rect::<4>(rect, &mut px, &mut stats),
-                    8 => S::render_tile_8(isa, renderer, rect, &mut px, &mut stats),
-                    other => return Err(Failure(format!("packet width {other} is not one of 1, 4, 8"))),
+                    8 => S::render_tile_wide::<8>(isa, renderer, rect, &mut px, &mut stats),
+                    16 => S::render_tile_wide::<16>(isa, renderer, rect, &mut px, &mut stats),
+                    other => return Err(Failure(format!("packet width {other} is not one of 1, 4, 8, 16"))),
                 }?;
                 done();
                 Ok((px, stats))
