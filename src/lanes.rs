@@ -37,9 +37,11 @@ pub struct Mask<const W: usize>([u32; W]);
 const SET: u32 = u32::MAX;
 
 /// Reduces `v` with `f` by folding its upper half onto its lower half until
-/// one word is left: every step is a lane-wise operation on a vector half as
-/// wide, the shape a vectorizer turns into packed instructions at any width
-/// (a left-to-right chain made LLVM split 16-wide masks into 2/2/4/8 pieces).
+/// one word is left: log₂W lane-wise steps on vectors half as wide each time
+/// (the shape of a vector horizontal reduction) rather than a chain of W
+/// dependent steps. Written while chasing the width-16 slowdown, whose cause
+/// turned out to be `Lanes::select` (see [`Scalar::blend`]); on its own it made
+/// no measurable difference to the sphere kernel at widths 8 and 16.
 /// `f` must be associative and commutative; `empty` is the result for no
 /// words at all.
 #[inline(always)]
