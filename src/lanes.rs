@@ -36,32 +36,6 @@ pub struct Mask<const W: usize>([u32; W]);
 
 const SET: u32 = u32::MAX;
 
-/// Reduces `v` with `f` by folding its upper half onto its lower half until
-/// one word is left: log₂W lane-wise steps on vectors half as wide each time
-/// (the shape of a vector horizontal reduction) rather than a chain of W
-/// dependent steps. Written while chasing the width-16 slowdown, whose cause
-/// turned out to be `Lanes::select` (see [`Scalar::blend`]); on its own it made
-/// no measurable difference to the sphere kernel at widths 8 and 16.
-/// `f` must be associative and commutative; `empty` is the result for no
-/// words at all.
-#[inline(always)]
-fn fold_halves<const W: usize>(mut v: [u32; W], empty: u32, f: impl Fn(u32, u32) -> u32) -> u32 {
-    let mut n = W;
-    while n > 1 {
-        // Fold the top `h` words onto the bottom `h`; with odd `n` the middle
-        // word stays where it is for the next round.
-        let h = n / 2;
-        for i in 0..h {
-            v[i] = f(v[i], v[i + n - h]);
-        }
-        n -= h;
-    }
-    match v.first() {
-        Some(&r) => r,
-        None => empty,
-    }
-}
-
 #[inline(always)]
 const fn word(v: bool) -> u32 {
     if v {
@@ -113,7 +87,11 @@ impl<const W: usize> Mask<W> {
     /// Whether any lane is set.
     #[inline(always)]
     pub fn any(self) -> bool {
-        fold_halves(self.0, 0, |a, b| a | b) != 0
+        let mut r = 0;
+        for i in 0..W {
+            r |= self.0[i];
+        }
+        r != 0
     }
     /// Whether no lane is set.
     #[inline(always)]
@@ -123,16 +101,20 @@ impl<const W: usize> Mask<W> {
     /// Whether every lane is set.
     #[inline(always)]
     pub fn all(self) -> bool {
-        fold_halves(self.0, SET, |a, b| a & b) != 0
+        let mut r = SET;
+        for i in 0..W {
+            r &= self.0[i];
+        }
+        r != 0
     }
     /// Number of set lanes.
     #[inline(always)]
     pub fn count(self) -> u32 {
-        let mut ones = self.0;
-        for w in ones.iter_mut() {
-            *w &= 1;
+        let mut n = 0;
+        for i in 0..W {
+            n += self.0[i] & 1;
         }
-        fold_halves(ones, 0, |a, b| a + b)
+        n
     }
     /// Lanes set here and not in `other`.
     #[inline(always)]
@@ -381,8 +363,8 @@ mod tests {
         check::<16>();
     }
 
-    /// The halving reductions agree with a plain count at every width,
-    /// including odd ones (where the middle word waits a round).
+    /// The mask reductions agree with a plain count at every width,
+    /// odd ones included.
     #[test]
     fn reductions_at_odd_and_wide_widths() {
         fn check<const W: usize>(seed: u32) {
