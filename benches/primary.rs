@@ -12,12 +12,11 @@
 //!   BVH, width 8, 256×256, single thread.
 //!
 //! `cargo bench --bench primary` (about 2 minutes of measuring). Ratios in
-//! the README come from `examples/primary_probe.rs` and
-//! `examples/scene_probe.rs`, which interleave the configurations.
+//! the README come from `examples/primary_probe.rs` and `raypack
+//! bench`, which interleave the configurations.
 mod workloads;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use raypack::bvh::Bvh;
 use raypack::demo::{demo_camera, demo_scene};
 use raypack::dispatch::Isa;
 use raypack::nff;
@@ -69,7 +68,7 @@ fn bench_grid(c: &mut Criterion) {
     for n in [1, 16, 64, 256] {
         let scene = sphere_grid(n);
         let view = scene.view();
-        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), n), |b| b.iter(|| scene_pass(isa, &view, black_box(&p8))));
+        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), n), |b| b.iter(|| scene_pass(isa, &view, &BruteForce, black_box(&p8))));
     }
     g.finish();
 }
@@ -83,9 +82,9 @@ fn bench_whitted(c: &mut Criterion) {
     let mut img = vec![[0u8; 3]; 256 * 256];
     let mut g = c.benchmark_group("whitted_demo_256");
     g.throughput(Throughput::Elements(256 * 256));
-    g.bench_function(BenchmarkId::new(isa.name(), 1), |b| b.iter(|| render_pass::<1>(isa, &r, &mut img)));
-    g.bench_function(BenchmarkId::new(isa.name(), 4), |b| b.iter(|| render_pass::<4>(isa, &r, &mut img)));
-    g.bench_function(BenchmarkId::new(isa.name(), 8), |b| b.iter(|| render_pass::<8>(isa, &r, &mut img)));
+    g.bench_function(BenchmarkId::new(isa.name(), 1), |b| b.iter(|| render_pass::<_, 1>(isa, &r, &mut img)));
+    g.bench_function(BenchmarkId::new(isa.name(), 4), |b| b.iter(|| render_pass::<_, 4>(isa, &r, &mut img)));
+    g.bench_function(BenchmarkId::new(isa.name(), 8), |b| b.iter(|| render_pass::<_, 8>(isa, &r, &mut img)));
     g.finish();
 }
 
@@ -104,10 +103,9 @@ fn bench_spd(c: &mut Criterion) {
         let cam = info.camera.unwrap().camera::<f32>(256, 256).unwrap();
         let mut bvh: Box<Bvh<f32, 16384>> = Box::new(Bvh::new());
         bvh.build(&scene.view()).unwrap();
-        let view = scene.view().with_bvh(&bvh).unwrap();
-        let r = Renderer::new(Tracer::new(view, TraceSettings::default()).unwrap(), cam);
+        let r = Renderer::new(Tracer::<f32, _>::with_accelerator(scene.view(), bvh.view(), TraceSettings::default()).unwrap(), cam);
         let mut img = vec![[0u8; 3]; 256 * 256];
-        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), name), |b| b.iter(|| render_pass::<8>(isa, &r, &mut img)));
+        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), name), |b| b.iter(|| render_pass::<_, 8>(isa, &r, &mut img)));
     }
     g.finish();
 }

@@ -6,7 +6,9 @@
 //!
 //! `cargo run --release --example bvh_probe -- [size] [rounds] [N...]`
 //! (defaults: 1024, 5, N = 16 64 256 1024)
+use raypack::lanes::{Lanes, Mask};
 use raypack::prelude::*;
+use raypack::ray::RayPacket;
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -25,13 +27,13 @@ fn packets<const W: usize>(cam: &Camera<f32>, size: u32) -> Packets<W> {
 }
 
 #[inline(never)]
-fn pass<const W: usize>(view: &SceneView<'_, f32>, ps: &Packets<W>, brute: bool) -> u64 {
+fn pass<const W: usize>(view: &SceneView<'_, f32>, tree: &BvhView<'_, f32>, ps: &Packets<W>, brute: bool) -> u64 {
     let mut checksum = 0u64;
     for (r, m) in ps {
         let h = if brute {
-            view.closest_hit_brute_force(r, Lanes::zero(), Lanes::splat(f32::MAX), *m)
+            BruteForce.closest_hit(view, r, Lanes::zero(), Lanes::splat(f32::MAX), *m)
         } else {
-            view.closest_hit(r, Lanes::zero(), Lanes::splat(f32::MAX), *m)
+            tree.closest_hit(view, r, Lanes::zero(), Lanes::splat(f32::MAX), *m)
         };
         for l in 0..W {
             if h.mask.get(l) {
@@ -86,16 +88,16 @@ fn main() {
         let start = Instant::now();
         let stats = bvh.build(&scene.view()).unwrap();
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
-        let view = scene.view().with_bvh(&bvh).unwrap();
+        let (view, tree) = (scene.view(), bvh.view());
         let (p8, p1) = (packets::<8>(&cam, size), packets::<1>(&cam, size));
         let mut t = [f64::MAX; 3];
         let mut sums = [0u64; 3];
         for round in 0..rounds {
-            sums[0] = best(&mut t[0], || pass::<8>(black_box(&view), &p8, false));
-            sums[1] = best(&mut t[1], || pass::<1>(black_box(&view), &p1, false));
+            sums[0] = best(&mut t[0], || pass::<8>(black_box(&view), &tree, &p8, false));
+            sums[1] = best(&mut t[1], || pass::<1>(black_box(&view), &tree, &p1, false));
             // Brute force at large N is slow: fewer rounds there.
             if n <= 256 || round == 0 {
-                sums[2] = best(&mut t[2], || pass::<8>(black_box(&view), &p8, true));
+                sums[2] = best(&mut t[2], || pass::<8>(black_box(&view), &tree, &p8, true));
             }
         }
         assert_eq!(sums[0], sums[2], "BVH and brute force disagree");

@@ -118,13 +118,13 @@ type Big<S> = Scene<S, 16384, 65536, 64, 16>;
 /// Colour and ID renders (width 8, through a BVH when `bvh` is set).
 fn render<S: Scalar>(scene: &SceneView<'_, S>, camera: Camera<S>, bvh: bool) -> (Vec<Rgb8>, Vec<Rgb8>) {
     let mut tree = Box::new(Bvh::<S, 16384>::new());
-    let view = if bvh {
+    let accel = if bvh {
         tree.build(scene).unwrap();
-        scene.with_bvh(&tree).unwrap()
+        AccelChoice::Bvh(tree.view())
     } else {
-        *scene
+        AccelChoice::BruteForce
     };
-    let tracer: Tracer<S> = Tracer::new(view, TraceSettings::default()).unwrap();
+    let tracer = Tracer::<S, _>::with_accelerator(*scene, accel, TraceSettings::default()).unwrap();
     let mut out = Vec::new();
     for aov in [Aov::Color, Aov::Id] {
         let renderer = Renderer { tracer, camera, aov };
@@ -150,7 +150,7 @@ fn render_any<S: Scalar>(text: &str, w: u32, h: u32) -> Result<(Vec<Rgb8>, Vec<R
     let camera = cam.camera::<S>(w, h).map_err(|e| e.to_string())?;
     // Report (but do not enforce) the range check, so the emulated formats
     // show what happens without it.
-    if let Err(e) = check_scene(&scene.view(), &camera) {
+    if let Err(e) = scene.view().check_range(camera.eye()) {
         eprintln!("  (range check: {e})");
     }
     Ok(render(&scene.view(), camera, true))

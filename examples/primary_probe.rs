@@ -80,22 +80,23 @@ fn isas() -> Vec<Isa> {
 fn scene_workload(name: &str, n: usize, size: u32, rounds: u32, with_bvh: bool) {
     let scene = sphere_grid(n);
     let mut bvh: Box<Bvh<f32, 1024>> = Box::new(Bvh::new());
-    let view = if with_bvh {
+    let view = scene.view();
+    let accel = if with_bvh {
         bvh.build(&scene.view()).unwrap();
-        scene.view().with_bvh(&bvh).unwrap()
+        AccelChoice::Bvh(bvh.view())
     } else {
-        scene.view()
+        AccelChoice::BruteForce
     };
     let name = if with_bvh { format!("{name} accel=bvh") } else { name.to_string() };
     let cam = camera(size);
     let (p1, p4, p8, p16) = (packets::<1>(&cam), packets::<4>(&cam), packets::<8>(&cam), packets::<16>(&cam));
-    let (view, p1, p4, p8, p16) = (&view, &p1, &p4, &p8, &p16);
+    let (view, accel, p1, p4, p8, p16) = (&view, &accel, &p1, &p4, &p8, &p16);
     let mut cs = Vec::new();
     for isa in isas() {
-        cs.push(config(isa, 1, move || scene_pass(isa, view, black_box(p1)) as u64));
-        cs.push(config(isa, 4, move || scene_pass(isa, view, black_box(p4)) as u64));
-        cs.push(config(isa, 8, move || scene_pass(isa, view, black_box(p8)) as u64));
-        cs.push(config(isa, 16, move || scene_pass(isa, view, black_box(p16)) as u64));
+        cs.push(config(isa, 1, move || scene_pass(isa, view, accel, black_box(p1)) as u64));
+        cs.push(config(isa, 4, move || scene_pass(isa, view, accel, black_box(p4)) as u64));
+        cs.push(config(isa, 8, move || scene_pass(isa, view, accel, black_box(p8)) as u64));
+        cs.push(config(isa, 16, move || scene_pass(isa, view, accel, black_box(p16)) as u64));
     }
     measure(&format!("{name} spheres={n} size={size}"), "rays", (size * size) as f64, rounds, &mut cs);
 }
@@ -146,10 +147,10 @@ fn render_workload(rounds: u32) {
     for isa in isas() {
         let (a, b, c, d) = (it.next().unwrap(), it.next().unwrap(), it.next().unwrap(), it.next().unwrap());
         let r = &r;
-        cs.push(config(isa, 1, move || render_pass::<1>(isa, r, a)));
-        cs.push(config(isa, 4, move || render_pass::<4>(isa, r, b)));
-        cs.push(config(isa, 8, move || render_pass::<8>(isa, r, c)));
-        cs.push(config(isa, 16, move || render_pass::<16>(isa, r, d)));
+        cs.push(config(isa, 1, move || render_pass::<_, 1>(isa, r, a)));
+        cs.push(config(isa, 4, move || render_pass::<_, 4>(isa, r, b)));
+        cs.push(config(isa, 8, move || render_pass::<_, 8>(isa, r, c)));
+        cs.push(config(isa, 16, move || render_pass::<_, 16>(isa, r, d)));
     }
     measure("render scene=demo size=256 threads=1", "pixels", 65536.0, rounds, &mut cs);
     drop(cs);

@@ -10,6 +10,9 @@ say() { printf '\n== %s\n' "$*"; }
 say "rustup targets"
 rustup target add thumbv7em-none-eabihf >/dev/null
 
+say "module graph: no cycles (scripts/module-graph.py)"
+python3 scripts/module-graph.py --quiet
+
 say "cargo test (host, all features)"
 cargo test --all-features
 

@@ -11,6 +11,7 @@
 //! 4×4 for 16 (see [`packet_shape`]).
 
 use crate::lanes::{Lanes, Mask};
+use crate::range::{self, RangeError, RangeItem};
 use crate::ray::RayPacket;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -30,7 +31,7 @@ pub enum CameraError {
     ImageSize,
     /// The eye or look-at point is beyond the scalar type's coordinate
     /// limit (fixed point; see [`crate::range`]).
-    OutOfRange,
+    OutOfRange(RangeError),
 }
 
 impl core::fmt::Display for CameraError {
@@ -41,10 +42,12 @@ impl core::fmt::Display for CameraError {
             CameraError::UpParallel => "the up vector is zero or parallel to the view direction",
             CameraError::FieldOfView => "the field of view must be between 0 and 180 degrees",
             CameraError::ImageSize => "the image size must be between 1 and 65535 pixels per side",
-            CameraError::OutOfRange => "the camera's eye or look-at point is beyond the fixed-point coordinate limit",
+            CameraError::OutOfRange(e) => return e.fmt(f),
         })
     }
 }
+
+impl core::error::Error for CameraError {}
 
 /// Pixels covered by a packet of width `W`: `(columns, rows)`.
 pub const fn packet_shape(w: usize) -> (u32, u32) {
@@ -103,11 +106,8 @@ impl<S: Scalar> Camera<S> {
         if !(vfov_deg > 0.0 && vfov_deg < 180.0) {
             return Err(CameraError::FieldOfView);
         }
-        if crate::range::check_point(eye, crate::range::RangeItem::Camera).is_err()
-            || crate::range::check_point(look_at, crate::range::RangeItem::Camera).is_err()
-        {
-            return Err(CameraError::OutOfRange);
-        }
+        range::check_point(eye, RangeItem::Camera).map_err(CameraError::OutOfRange)?;
+        range::check_point(look_at, RangeItem::Camera).map_err(CameraError::OutOfRange)?;
         let forward = (look_at - eye).normalize_or_zero();
         if forward == Vec3::ZERO {
             return Err(CameraError::EyeAtTarget);
@@ -161,7 +161,7 @@ impl<S: Scalar> Camera<S> {
     /// The packet of primary rays whose top-left pixel is `(x, y)`, laid out
     /// as [`packet_shape`]`(W)`; lanes whose pixel falls outside `clip` (or
     /// the image) are inactive in the returned mask.
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn packet<const W: usize>(&self, x: u32, y: u32, clip: Rect) -> (RayPacket<S, W>, Mask<W>) {
         let (pw, _) = packet_shape(W);
         let mut ci = Lanes::<S, W>::zero();
@@ -258,5 +258,15 @@ mod tests {
         assert_eq!(Camera::new(o, z, y, 180.0, 4, 4), Err(CameraError::FieldOfView));
         assert_eq!(Camera::new(o, z, y, f32::NAN, 4, 4), Err(CameraError::NonFinite));
         assert_eq!(Camera::new(o, z, y, 45.0, 0, 4), Err(CameraError::ImageSize));
+    }
+
+    #[test]
+    fn camera_beyond_the_fixed_point_limit_is_an_error_naming_it() {
+        use crate::fixed::Fixed;
+        let v = |x, y, z| Vec3::<Fixed>::from_f32(x, y, z);
+        let r = Camera::<Fixed>::new(v(0.0, 0.0, 5000.0), v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0), 45.0, 8, 8);
+        assert_eq!(r, Err(CameraError::OutOfRange(RangeError { item: RangeItem::Camera, magnitude: 5000, limit: 4096 })));
+        let far = Vec3::new(0.0f32, 0.0, 5000.0);
+        assert!(Camera::<f32>::new(far, Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8).is_ok());
     }
 }

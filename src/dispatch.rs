@@ -1,18 +1,30 @@
-//! Run-time choice of the instruction set for the render path (`std` only).
+//! Run-time choice of the instruction set for the render path (`std` only;
+//! the one module of the crate allowed `unsafe`).
 //!
 //! A default Rust build for x86-64 may use only SSE2, so an 8-wide packet is
 //! two 4-wide halves. This module compiles the same generic code again
 //! inside functions marked `#[target_feature(enable = "avx2")]` (and
 //! `"avx512f,avx512vl,avx512bw,avx512dq"`) and picks a copy at run time from
 //! what the CPU has (`is_x86_feature_detected!`, cached by `std`).
-//! Everything on the render path, from [`Renderer::render_rect`] down to the
-//! primitive kernels, is `#[inline(always)]`, so LLVM inlines it into the
-//! entry point and compiles it there with `ymm` (or `zmm`) registers.
-//! In builds with debug assertions (the test profile) those attributes are
-//! plain `#[inline]` hints instead: inlining the whole tracer everywhere
+//!
+//! Code is compiled for an instruction set only where it is inlined into
+//! such a function, so the render path is cut into a few large pieces, each
+//! one function per instruction set:
+//! - the render loop (camera rays, the tracer's stack, shading, pixels):
+//!   [`Renderer::render_rect`] and everything below it is `#[inline(always)]`
+//!   on x86 and compiled inside the entry point;
+//! - the two queries, closest hit and shadow transmittance (the traversal
+//!   and the primitive kernels): the renderer's accelerator is wrapped in a
+//!   type of this module whose queries call functions compiled for the same
+//!   instruction set, with the accelerator's code inlined into them.
+//!
+//! Cutting the path at the queries keeps each function a size LLVM compiles
+//! quickly (its time grows faster than linearly with function size), and
+//! compiles the primitive kernels once per query instead of once per call
+//! site. In builds with debug assertions (the test profile) the
+//! `inline(always)` attributes are off: inlining the whole tracer everywhere
 //! made the tests take most of CI's time to compile. The bytes are the same
 //! either way; `scripts/check-asm.sh` checks the release machine code.
-//!
 //! # Determinism
 //! The AVX2 copy enables only `avx2` (which implies `avx`), not `fma`. The
 //! AVX-512 copy needs `avx512f`, which LLVM ties to `fma`; that is harmless
@@ -31,8 +43,10 @@
 //! same path).
 #![allow(unsafe_code)]
 
-use crate::bvh::LeafIsa;
 use crate::camera::Rect;
+use crate::lanes::{Lanes, Mask};
+use crate::query::{Accelerator, Hit, SceneMismatch};
+use crate::ray::RayPacket;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
 use crate::scalar::Scalar;
 use crate::scene::SceneView;
@@ -96,30 +110,16 @@ impl Isa {
         }
     }
 
-    /// The token for the BVH leaf tests compiled for
-    /// [`Isa::effective`]`(self)` (see [`crate::bvh::isa`]).
-    pub fn leaf_isa(self) -> LeafIsa {
-        match self.effective() {
-            Isa::Baseline => LeafIsa::default(),
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: `effective` returned Avx2 only because run-time
-            // detection found AVX2 on this CPU.
-            Isa::Avx2 => unsafe { LeafIsa::avx2() },
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: `effective` returned Avx512 only because run-time
-            // detection found AVX-512 F, VL, BW and DQ on this CPU.
-            Isa::Avx512 => unsafe { LeafIsa::avx512() },
-            #[cfg(not(target_arch = "x86_64"))]
-            Isa::Avx2 | Isa::Avx512 => LeafIsa::default(),
+    /// The instruction set [`render_rect`] really uses for `self` with
+    /// packets of `packet` lanes of `S`: [`Isa::effective`]`(self)` for
+    /// packets of 8 or more lanes of a [`Scalar::PACKED`] type, the
+    /// baseline otherwise.
+    pub fn used_for<S: Scalar>(self, packet: usize) -> Isa {
+        if S::PACKED && packet >= 8 {
+            self.effective()
+        } else {
+            Isa::Baseline
         }
-    }
-
-    /// `view` with its BVH traversals calling the leaf tests compiled for
-    /// [`Isa::effective`]`(self)`. [`render_rect`] does this itself; an
-    /// [`IsaKernel`] that queries a view with a tree should use it, since
-    /// the leaf tests are compiled apart from the inlined path.
-    pub fn view<'a, S: Scalar>(self, view: SceneView<'a, S>) -> SceneView<'a, S> {
-        view.with_leaf_isa(self.leaf_isa())
     }
 
     /// Short lower-case name: `baseline`, `avx2` or `avx512`.
@@ -197,15 +197,78 @@ unsafe fn run_avx512<K: IsaKernel>(kernel: K) -> K::Output {
     kernel.run()
 }
 
+/// Queries of an accelerator, compiled as functions of their own: the
+/// pieces of the render path that [`render_rect`] cuts off (see the module
+/// documentation). One type per instruction set; the AVX2 and AVX-512 ones
+/// are made only by [`render_rect`], after run-time detection, which is
+/// what makes their `unsafe` calls sound.
+macro_rules! isa_queries {
+    ($(#[$doc:meta])* $name:ident, $closest:ident, $shadow:ident, $(#[$tf:meta])*) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug)]
+        struct $name<A>(A);
+
+        impl<S: Scalar, A: Accelerator<S>> Accelerator<S> for $name<A> {
+            fn check(&self, scene: &SceneView<'_, S>) -> Result<(), SceneMismatch> {
+                self.0.check(scene)
+            }
+            #[inline(always)]
+            fn closest_hit<const W: usize>(&self, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Hit<S, W> {
+                // SAFETY: a value of this type exists only where the CPU
+                // supports the instruction set `$closest` is compiled for
+                // (see `render_rect`; the baseline needs nothing).
+                unsafe { $closest(&self.0, scene, ray, t_min, t_max, active) }
+            }
+            #[inline(always)]
+            fn transmittance<const W: usize>(&self, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Lanes<S, W> {
+                // SAFETY: as for `closest_hit`.
+                unsafe { $shadow(&self.0, scene, ray, t_min, t_max, active) }
+            }
+        }
+
+        /// # Safety
+        /// The CPU must support the instruction set this is compiled for.
+        #[inline(never)]
+        $(#[$tf])*
+        unsafe fn $closest<S: Scalar, A: Accelerator<S>, const W: usize>(a: &A, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Hit<S, W> {
+            a.closest_hit(scene, ray, t_min, t_max, active)
+        }
+
+        /// # Safety
+        /// The CPU must support the instruction set this is compiled for.
+        #[inline(never)]
+        $(#[$tf])*
+        unsafe fn $shadow<S: Scalar, A: Accelerator<S>, const W: usize>(a: &A, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Lanes<S, W> {
+            a.transmittance(scene, ray, t_min, t_max, active)
+        }
+    };
+}
+
+isa_queries!(
+    /// Queries compiled for the baseline instruction set.
+    BaselineQueries, closest_hit_baseline, transmittance_baseline,
+);
+#[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
+isa_queries!(
+    /// Queries compiled for AVX2 (made only once AVX2 was detected).
+    Avx2Queries, closest_hit_avx2, transmittance_avx2, #[target_feature(enable = "avx2")]
+);
+#[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
+isa_queries!(
+    /// Queries compiled for AVX-512 F, VL, BW and DQ (made only once all
+    /// four were detected).
+    Avx512Queries, closest_hit_avx512, transmittance_avx512, #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq")]
+);
+
 /// [`Renderer::render_rect`] as an [`IsaKernel`].
-struct RenderRect<'r, 'a, 'o, 's, S, const D: usize, const W: usize> {
-    renderer: &'r Renderer<'a, S, D>,
+struct RenderRect<'r, 'a, 'o, 's, S, A, const D: usize, const W: usize> {
+    renderer: &'r Renderer<'a, S, A, D>,
     rect: Rect,
     out: &'o mut [Rgb8],
     stats: &'s mut RayStats,
 }
 
-impl<S: Scalar, const D: usize, const W: usize> IsaKernel for RenderRect<'_, '_, '_, '_, S, D, W> {
+impl<S: Scalar, A: Accelerator<S>, const D: usize, const W: usize> IsaKernel for RenderRect<'_, '_, '_, '_, S, A, D, W> {
     type Output = Result<(), BufferTooSmall>;
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn run(self) -> Self::Output {
@@ -214,19 +277,56 @@ impl<S: Scalar, const D: usize, const W: usize> IsaKernel for RenderRect<'_, '_,
 }
 
 /// [`Renderer::render_rect`] compiled for `isa` (see [`Isa::run`]): the same
-/// bytes as the plain call, faster where the CPU allows.
-pub fn render_rect<S: Scalar, const D: usize, const W: usize>(
+/// bytes as the plain call, faster where the CPU allows. The render loop is
+/// compiled inside the entry point for `isa`, and the renderer's queries in
+/// functions of their own for the same instruction set.
+///
+/// Only packets of 8 or more lanes of a [`Scalar::PACKED`] type (`f32`)
+/// have AVX2 and AVX-512 copies; everything else runs the baseline copy
+/// whatever `isa` says ([`Isa::used_for`] tells which), since 1 and 4
+/// lanes of `f32` fit SSE2's registers and integer fixed point gains
+/// little, and every copy costs compile time. (The condition is a constant
+/// of each instantiation, so the other instantiations compile no copies.)
+pub fn render_rect<S: Scalar, A: Accelerator<S>, const D: usize, const W: usize>(
     isa: Isa,
-    renderer: &Renderer<'_, S, D>,
+    renderer: &Renderer<'_, S, A, D>,
     rect: Rect,
     out: &mut [Rgb8],
     stats: &mut RayStats,
 ) -> Result<(), BufferTooSmall> {
-    // The same renderer, its BVH leaf tests (compiled apart from the
-    // inlined path, see `crate::bvh::isa`) in the same instruction set.
-    let mut local = *renderer;
-    local.tracer = local.tracer.with_leaf_isa(isa.leaf_isa());
-    isa.run(RenderRect::<S, D, W> { renderer: &local, rect, out, stats })
+    if const { !S::PACKED || W < 8 } {
+        let r = renderer.map_accelerator(BaselineQueries);
+        return run_baseline(RenderRect::<S, _, D, W> { renderer: &r, rect, out, stats });
+    }
+    match isa.effective() {
+        Isa::Baseline => {
+            let r = renderer.map_accelerator(BaselineQueries);
+            run_baseline(RenderRect::<S, _, D, W> { renderer: &r, rect, out, stats })
+        }
+        #[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
+        Isa::Avx2 => {
+            // `effective` returned Avx2 only because run-time detection
+            // found AVX2: the condition for making `Avx2Queries`.
+            let r = renderer.map_accelerator(Avx2Queries);
+            // SAFETY: the same detection; AVX2 is all `run_avx2` needs.
+            unsafe { run_avx2(RenderRect::<S, _, D, W> { renderer: &r, rect, out, stats }) }
+        }
+        #[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
+        Isa::Avx512 => {
+            // `effective` returned Avx512 only because run-time detection
+            // found AVX-512 F, VL, BW and DQ: the condition for making
+            // `Avx512Queries`.
+            let r = renderer.map_accelerator(Avx512Queries);
+            // SAFETY: the same detection; those four are all `run_avx512` needs.
+            unsafe { run_avx512(RenderRect::<S, _, D, W> { renderer: &r, rect, out, stats }) }
+        }
+        #[cfg(not(any(target_arch = "x86_64", target_arch = "x86")))]
+        // (Never available off x86: `effective` gives the baseline.)
+        Isa::Avx2 | Isa::Avx512 => {
+            let r = renderer.map_accelerator(BaselineQueries);
+            run_baseline(RenderRect::<S, _, D, W> { renderer: &r, rect, out, stats })
+        }
+    }
 }
 
 #[cfg(test)]

@@ -58,6 +58,7 @@
 //! [embedded-graphics]: https://docs.rs/embedded-graphics/0.8
 
 use crate::output::{rgb565, BandError, Dither, RectPositions};
+use crate::query::Accelerator;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
 use crate::scalar::Scalar;
 use crate::trace::RayStats;
@@ -126,6 +127,8 @@ impl<E: core::fmt::Debug> core::fmt::Display for DrawError<E> {
     }
 }
 
+impl<E: core::fmt::Debug> core::error::Error for DrawError<E> {}
+
 /// The part of image rectangle `rect`, placed with the image's top-left
 /// pixel at `top_left`, that lies inside `clip` (target coordinates):
 /// `(visible part in image coordinates, its top-left in target coordinates)`,
@@ -154,7 +157,7 @@ fn visible_part(rect: Rect, top_left: Point, clip: &Rectangle) -> Option<(Rect, 
     Some((Rect { x, y, w, h }, Point::new(tx, ty)))
 }
 
-impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
+impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// Renders the whole image with packets of width `W` and draws it on
     /// `target` with its top-left pixel at `top_left`, band by band through
     /// `band` (as many full rows as it holds, see

@@ -29,6 +29,15 @@
 //!
 //! Conversions from `f32` (set-up time only) round to nearest, saturate, and
 //! map NaN to 0.
+//!
+//! # Range limits
+//! The tracer's largest intermediates are squared distances between two
+//! scene points. With every coordinate of magnitude at most `R`, a difference
+//! of two points has components up to `2R` and a squared length up to
+//! `3·(2R)² = 12R²`. Keeping that below a quarter of the range
+//! ([`INTERMEDIATE_LIMIT`] `= 2²⁹`, room for the sums it enters) gives
+//! `R ≤ √(2²⁹/12) ≈ 6689`; the limit is the power of two below it,
+//! [`COORDINATE_LIMIT`] `= 4096` (see [`crate::range`] for the checks).
 
 use crate::scalar::Scalar;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -42,6 +51,14 @@ const RAW_MIN: i64 = -i64::MAX;
 const FRAC: u32 = 32;
 /// Raw value of one.
 const RAW_ONE: i64 = 1 << FRAC;
+
+/// Largest coordinate magnitude accepted for [`Fixed`] scenes (see the
+/// module documentation for its derivation).
+pub const COORDINATE_LIMIT: f32 = 4096.0;
+
+/// Budget for a single intermediate of the kernels: a quarter of the 32.32
+/// range, leaving room for the sums the intermediate enters.
+pub const INTERMEDIATE_LIMIT: f32 = 536_870_912.0; // 2²⁹
 
 /// A signed 32.32 fixed-point number: the [`Scalar`] for FPU-less targets.
 ///
@@ -280,7 +297,8 @@ impl Scalar for Fixed {
     const RAY_EPSILON: Self = Fixed::from_bits(429_497);
     const MIN_WEIGHT: Self = Fixed::from_bits(RAW_ONE / 512);
     const LIMITED_RANGE: bool = true;
-    const COORDINATE_LIMIT: f32 = crate::range::FIXED_COORDINATE_LIMIT;
+    const COORDINATE_LIMIT: f32 = COORDINATE_LIMIT;
+    const INTERMEDIATE_LIMIT: f32 = INTERMEDIATE_LIMIT;
 
     #[inline]
     fn from_f32(v: f32) -> Self {

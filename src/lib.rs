@@ -1,7 +1,7 @@
 //! # raypack
 //!
 //! A `no_std`, allocation-free, bit-for-bit deterministic Whitted ray tracer
-//! that traces 1-, 4- and 8-wide ray packets.
+//! that traces ray packets of any width (1, 4, 8 and 16 are the usual ones).
 //!
 //! Everything on the rendering path is generic over the scalar `S`
 //! ([`Scalar`]: `f32`, or fixed point) and the packet width `W`; width 1 is
@@ -27,7 +27,6 @@
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
-pub mod bvh;
 pub mod camera;
 pub mod demo;
 // Drawing into embedded-graphics displays, band by band (feature `embedded-graphics`).
@@ -38,6 +37,7 @@ pub mod lanes;
 pub mod nff;
 pub mod output;
 pub mod primitives;
+pub mod query;
 pub mod range;
 pub mod ray;
 pub mod render;
@@ -49,22 +49,24 @@ pub mod vec3;
 // Run-time instruction-set dispatch (std only; the one module allowed `unsafe`).
 #[cfg(feature = "std")]
 pub mod dispatch;
+// From NFF text to pixels in one call, on threads (std only).
+#[cfg(feature = "std")]
+pub mod image;
 
+#[cfg(feature = "std")]
+pub use image::{Image, Options};
 pub use fixed::Fixed;
 pub use scalar::Scalar;
 
 /// The types most programs need.
 pub mod prelude {
-    pub use crate::bvh::{BuildSettings, Bvh, BvhError, BvhStats};
     pub use crate::camera::{Camera, CameraError, Rect};
     pub use crate::fixed::Fixed;
-    pub use crate::range::{check_scene, RangeError, RangeItem};
-    pub use crate::lanes::{Lanes, Mask};
-    pub use crate::primitives::{Quadric, Shape, ShapeKind};
-    pub use crate::ray::{Ray, RayPacket};
+    pub use crate::primitives::Quadric;
+    pub use crate::query::{AccelChoice, Accelerator, BruteForce, BuildSettings, Bvh, BvhError, BvhView};
     pub use crate::render::{Aov, Renderer, Rgb8};
     pub use crate::scalar::Scalar;
-    pub use crate::scene::{CapacityError, Material, Scene, SceneError, SceneView};
-    pub use crate::trace::{Mode, RayStats, TraceSettings, Tracer};
+    pub use crate::scene::{Material, Scene, SceneError, SceneView};
+    pub use crate::trace::{Mode, RayStats, TraceError, TraceSettings, Tracer};
     pub use crate::vec3::Vec3;
 }

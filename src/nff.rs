@@ -224,6 +224,8 @@ impl core::fmt::Display for NffErrorKind {
     }
 }
 
+impl core::error::Error for NffErrorKind {}
+
 /// An error in an NFF file: where, and what.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct NffError {
@@ -241,6 +243,8 @@ impl core::fmt::Display for NffError {
         write!(f, "line {}, column {}: {}", self.line, self.column, self.kind)
     }
 }
+
+impl core::error::Error for NffError {}
 
 /// The camera of a `v` block, as written in the file.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -33,6 +33,7 @@
 //! ```
 
 use crate::camera::{packet_shape, Rect};
+use crate::query::Accelerator;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
 use crate::scalar::Scalar;
 use crate::trace::RayStats;
@@ -254,6 +255,8 @@ impl<E: core::fmt::Display> core::fmt::Display for BandError<E> {
     }
 }
 
+impl<E: core::fmt::Display + core::fmt::Debug> core::error::Error for BandError<E> {}
+
 /// The rows per band that a buffer of `buffer_pixels` pixels holds for an
 /// image `width` pixels wide, rounded down to whole packet rows of width-`W`
 /// packets when it holds at least one packet row (so no lanes are wasted at
@@ -298,7 +301,7 @@ impl ImageChecksums {
 /// The dithering used for [`ImageChecksums::rgb565`].
 pub const CHECKSUM_DITHER: Dither = Dither::Bayer4;
 
-impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
+impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// Renders the whole image band by band with packets of width `W`: each
     /// band is as many full rows as `band` holds (see [`band_rows`]),
     /// rendered into `band` and passed to `sink` with its rectangle (pixels

@@ -1,39 +1,34 @@
 //! Range checks for scalars of limited range (fixed point).
 //!
-//! A 32.32 [`crate::fixed::Fixed`] holds magnitudes below 2³¹ ≈ 2.1·10⁹. The
-//! tracer's largest intermediates are squared distances between two scene
-//! points (the sphere test's `|o − c|²`, the shading code's `|light − p|²`)
-//! and the terms of the quadric and cone discriminants. With every coordinate
-//! of magnitude at most `R`, a difference of two points has components up to
-//! `2R` and a squared length up to `3·(2R)² = 12R²`. Keeping that below a
-//! quarter of the range (`2²⁹`, room for the sums it enters) gives
-//! `R ≤ √(2²⁹/12) ≈ 6689`; the limit is the power of two below it,
-//! [`FIXED_COORDINATE_LIMIT`] `= 4096`.
+//! A fixed-point scalar represents magnitudes only up to a bound, so a scene
+//! traced with one must keep the tracer's largest intermediates inside it.
+//! Those are squared distances between two scene points (the sphere test's
+//! `|o − c|²`, the shading code's `|light − p|²`) and the terms of the
+//! quadric and cone discriminants. Each limited-range [`Scalar`] states two
+//! limits, derived in its own module from its format:
+//! - [`Scalar::COORDINATE_LIMIT`]: the largest coordinate magnitude a scene
+//!   may use, so that squared distances between scene points fit;
+//! - [`Scalar::INTERMEDIATE_LIMIT`]: the largest single intermediate a
+//!   kernel may form, leaving room for the sums it enters.
 //!
 //! Quadrics and cones carry coefficients (`1/r²`, a cone's slope) that scale
-//! their intermediates further, so [`check_scene`] bounds their discriminant
-//! terms from the scene's actual extent (scale-aware: a small ellipsoid in a
-//! small scene is fine; the same ellipsoid in a scene 1000 units wide is not).
+//! their intermediates further, so [`check_intermediates`] bounds their
+//! discriminant terms from the scene's actual extent (scale-aware: a small
+//! ellipsoid in a small scene is fine; the same ellipsoid in a scene 1000
+//! units wide is not). The whole-scene check is
+//! [`SceneView::check_range`](crate::scene::SceneView::check_range).
 //!
 //! Points beyond the extent arise only as hit points on unbounded primitives
 //! (planes, unclipped quadrics) far along a grazing ray. Their intermediates
 //! saturate: results there are defined (never a panic) but may be inexact.
 //!
 //! For `f32` ([`Scalar::LIMITED_RANGE`] is false) every check passes.
+//!
+//! This module is a leaf: it knows shapes and numbers, not scenes or cameras.
 
-use crate::camera::Camera;
 use crate::primitives::Shape;
 use crate::scalar::Scalar;
-use crate::scene::SceneView;
 use crate::vec3::Vec3;
-
-/// Largest coordinate magnitude accepted for [`crate::fixed::Fixed`] scenes
-/// (see the module documentation for its derivation).
-pub const FIXED_COORDINATE_LIMIT: f32 = 4096.0;
-
-/// Budget for a single intermediate of the kernels: a quarter of the 32.32
-/// range, leaving room for the sums the intermediate enters.
-pub const FIXED_INTERMEDIATE_BUDGET: f32 = 536_870_912.0; // 2²⁹
 
 /// What exceeded the representable range.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,13 +69,15 @@ impl core::fmt::Display for RangeError {
     }
 }
 
+impl core::error::Error for RangeError {}
+
 fn error(item: RangeItem, magnitude: f32, limit: f32) -> RangeError {
     // `as` saturates (and maps NaN to 0, impossible here: inputs are magnitudes).
     RangeError { item, magnitude: libm::ceilf(magnitude) as u64, limit: limit as u64 }
 }
 
 /// Largest absolute coordinate of a point, in `f32`.
-fn magnitude<S: Scalar>(p: Vec3<S>) -> f32 {
+pub fn magnitude<S: Scalar>(p: Vec3<S>) -> f32 {
     p.max_abs().to_f32()
 }
 
@@ -98,8 +95,9 @@ pub fn check_point<S: Scalar>(p: Vec3<S>, item: RangeItem) -> Result<(), RangeEr
 
 /// Magnitude of a primitive's coordinates: its bounds, or for a plane its
 /// distance from the origin; `None` for an unclipped quadric (unbounded, no
-/// coordinates of its own: [`check_scene`] bounds its coefficients instead).
-fn shape_extent<S: Scalar>(shape: &Shape<S>, pool: &[Vec3<S>]) -> Option<f32> {
+/// coordinates of its own: [`check_intermediates`] bounds its coefficients
+/// instead).
+pub fn shape_extent<S: Scalar>(shape: &Shape<S>, pool: &[Vec3<S>]) -> Option<f32> {
     match shape {
         Shape::Plane(p) => Some(p.offset().abs().to_f32()),
         _ => shape.bounds(pool).map(|(lo, hi)| magnitude(lo).max(magnitude(hi))),
@@ -124,161 +122,92 @@ fn disc_bound(a: f32, b: f32, c: f32) -> f32 {
     b * b + 4.0 * a * c
 }
 
-/// The whole-scene check for limited-range scalars: every coordinate (camera,
-/// lights, primitives) within [`Scalar::COORDINATE_LIMIT`], and every quadric
-/// and cone's intersection intermediates within [`FIXED_INTERMEDIATE_BUDGET`]
-/// for ray origins anywhere in the scene's extent `R` (the largest coordinate
-/// magnitude, at least 1). Returns `R`. Always `Ok` for `f32`.
+/// Bound on a quadric's or cone's intersection intermediates (its
+/// discriminant terms) for rays with unit directions starting anywhere with
+/// coordinates `|oᵢ| ≤ r`; 0 for every other shape.
 ///
-/// Bounds (rays have unit directions, origins `|oᵢ| ≤ R`):
-/// - quadric `Σ` of `A..F` = `Q₂`, of `G..I` = `Q₁`: `|a| ≤ Q₂`,
+/// - quadric, `Σ` of `A..F` = `Q₂`, of `G..I` = `Q₁`: `|a| ≤ Q₂`,
 ///   `|b| ≤ 2Q₂R + Q₁`, `|c| ≤ Q₂R² + Q₁R + |J|`;
 /// - cone (local origin `|o| ≤ 2√3·R`, slope `k`, base radius `r_b`):
 ///   `r(o) ≤ |o|·|k| + r_b`, `|a| ≤ 1 + k²`, `|b| ≤ 2|o| + r(o)·|k|`,
 ///   `|c| ≤ 2|o|² + r(o)²`.
-pub fn check_scene<S: Scalar>(scene: &SceneView<'_, S>, camera: &Camera<S>) -> Result<f32, RangeError> {
+pub fn intermediate_bound<S: Scalar>(shape: &Shape<S>, r: f32) -> f32 {
+    match shape {
+        Shape::Quadric(q) => {
+            let c = q.coefficients().map(|v| v.abs().to_f32());
+            let q2 = c[0] + c[1] + c[2] + c[3] + c[4] + c[5];
+            let q1 = c[6] + c[7] + c[8];
+            disc_bound(q2, 2.0 * q2 * r + q1, q2 * r * r + q1 * r + c[9])
+        }
+        Shape::Cone(cone) => {
+            let o = 2.0 * libm::sqrtf(3.0) * r;
+            let slope = cone.slope().abs().to_f32();
+            let (_, rb, _, _) = cone.ends();
+            let ro = o * slope + rb.to_f32();
+            disc_bound(1.0 + slope * slope, 2.0 * o + ro * slope, 2.0 * o * o + ro * ro)
+        }
+        _ => 0.0,
+    }
+}
+
+/// Checks [`intermediate_bound`] of primitive `index` at extent `r` against
+/// [`Scalar::INTERMEDIATE_LIMIT`].
+pub fn check_intermediates<S: Scalar>(shape: &Shape<S>, r: f32, index: u32) -> Result<(), RangeError> {
     if !S::LIMITED_RANGE {
-        return Ok(f32::MAX);
+        return Ok(());
     }
-    let limit = S::COORDINATE_LIMIT;
-    let mut extent = magnitude(camera.eye());
-    if extent > limit {
-        return Err(error(RangeItem::Camera, extent, limit));
+    let bound = intermediate_bound(shape, r);
+    if !(bound <= S::INTERMEDIATE_LIMIT) {
+        return Err(error(RangeItem::Intermediate(index), bound, S::INTERMEDIATE_LIMIT));
     }
-    for (k, light) in scene.lights().iter().enumerate() {
-        let m = magnitude(light.position);
-        if m > limit {
-            return Err(error(RangeItem::Light(k as u32), m, limit));
-        }
-        extent = extent.max(m);
-    }
-    let pool = scene.vertices();
-    for (k, p) in scene.primitives().iter().enumerate() {
-        if let Some(m) = shape_extent(&p.shape, pool) {
-            if m > limit {
-                return Err(error(RangeItem::Primitive(k as u32), m, limit));
-            }
-            extent = extent.max(m);
-        }
-    }
-    let r = extent.max(1.0);
-    let budget = FIXED_INTERMEDIATE_BUDGET;
-    for (k, p) in scene.primitives().iter().enumerate() {
-        let bound = match &p.shape {
-            Shape::Quadric(q) => {
-                let c = q.coefficients().map(|v| v.abs().to_f32());
-                let q2 = c[0] + c[1] + c[2] + c[3] + c[4] + c[5];
-                let q1 = c[6] + c[7] + c[8];
-                disc_bound(q2, 2.0 * q2 * r + q1, q2 * r * r + q1 * r + c[9])
-            }
-            Shape::Cone(cone) => {
-                let o = 2.0 * libm::sqrtf(3.0) * r;
-                let slope = cone.slope().abs().to_f32();
-                let (_, rb, _, _) = cone.ends();
-                let ro = o * slope + rb.to_f32();
-                disc_bound(1.0 + slope * slope, 2.0 * o + ro * slope, 2.0 * o * o + ro * ro)
-            }
-            _ => 0.0,
-        };
-        if !(bound <= budget) {
-            return Err(error(RangeItem::Intermediate(k as u32), bound, budget));
-        }
-    }
-    Ok(r)
+    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::fixed::Fixed;
-    use crate::prelude::*;
-
-    type Small<S> = Scene<S, 8, 16, 2, 2>;
+    use crate::primitives::{Cone, Quadric, Sphere};
 
     fn v<S: Scalar>(x: f32, y: f32, z: f32) -> Vec3<S> {
         Vec3::from_f32(x, y, z)
     }
 
-    fn cam<S: Scalar>(eye: Vec3<S>) -> Camera<S> {
-        Camera::new(eye, v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), 45.0, 8, 8).unwrap()
-    }
-
     #[test]
-    fn limit_keeps_squared_distances_in_budget() {
-        // The derivation in the module docs: 12·R² within the budget, and the
-        // budget a quarter of the 32.32 range.
-        let r = FIXED_COORDINATE_LIMIT as f64;
-        assert!(12.0 * r * r <= FIXED_INTERMEDIATE_BUDGET as f64);
-        assert_eq!(FIXED_INTERMEDIATE_BUDGET as f64 * 4.0, 2f64.powi(31));
-        // The farthest points of an accepted scene: the squared distance is
-        // representable and exact.
-        let a = Vec3::<Fixed>::from_f32(4096.0, 4096.0, 4096.0);
-        let d = a - (-a);
-        assert_eq!(d.length_squared().to_f32(), 12.0 * 4096.0 * 4096.0);
-    }
-
-    #[test]
-    fn far_primitives_are_rejected_when_added() {
-        let mut s = Small::<Fixed>::new();
-        let m = s.add_material(Material::diffuse(v(1.0, 1.0, 1.0))).unwrap();
-        s.add_sphere(v(4000.0, 0.0, 0.0), Fixed::from_f32(90.0), m).unwrap();
-        let e = s.add_sphere(v(4000.0, 0.0, 0.0), Fixed::from_f32(100.0), m).unwrap_err();
+    fn points_beyond_the_limit_are_rejected_for_fixed_point_only() {
+        let far = v::<Fixed>(0.0, 0.0, -5000.0);
         assert_eq!(
-            e,
-            SceneError::OutOfRange(RangeError { item: RangeItem::Primitive(1), magnitude: 4100, limit: 4096 })
+            check_point(far, RangeItem::Light(3)),
+            Err(RangeError { item: RangeItem::Light(3), magnitude: 5000, limit: 4096 })
         );
-        // A coordinate that saturated on conversion is caught too.
-        let e = s.add_sphere(v(0.0, 1.0e12, 0.0), Fixed::ONE, m).unwrap_err();
-        assert!(matches!(e, SceneError::OutOfRange(RangeError { item: RangeItem::Primitive(1), .. })), "{e:?}");
-        let e = s.add_light(v(0.0, 0.0, -5000.0), v(1.0, 1.0, 1.0)).unwrap_err();
-        assert!(matches!(e, SceneError::OutOfRange(RangeError { item: RangeItem::Light(0), magnitude: 5000, .. })), "{e:?}");
-        assert!(s.add_plane(Fixed::ZERO, Fixed::ZERO, Fixed::ONE, Fixed::from_f32(-5000.0), m).is_err());
-        assert_eq!(s.len(), 1);
-        // The same scene in f32 is accepted.
-        let mut s = Small::<f32>::new();
-        let m = s.add_material(Material::diffuse(v(1.0, 1.0, 1.0))).unwrap();
-        s.add_sphere(v(0.0, 1.0e12, 0.0), 1.0, m).unwrap();
-        assert_eq!(check_scene(&s.view(), &cam(v(0.0, -5.0, 1.0))), Ok(f32::MAX));
+        assert_eq!(check_point(v::<Fixed>(4096.0, -4096.0, 0.0), RangeItem::Camera), Ok(()));
+        assert_eq!(check_point(v::<f32>(0.0, 1.0e30, 0.0), RangeItem::Camera), Ok(()));
     }
 
     #[test]
-    fn camera_beyond_the_limit_is_rejected() {
-        let r = Camera::<Fixed>::new(v(0.0, 0.0, 5000.0), v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0), 45.0, 8, 8);
-        assert_eq!(r, Err(CameraError::OutOfRange));
-        assert!(Camera::<f32>::new(v(0.0, 0.0, 5000.0), v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0), 45.0, 8, 8).is_ok());
+    fn shapes_are_checked_by_their_bounds() {
+        let near = Shape::Sphere(Sphere::new(v::<Fixed>(4000.0, 0.0, 0.0), Fixed::from_f32(90.0)).unwrap());
+        let far = Shape::Sphere(Sphere::new(v::<Fixed>(4000.0, 0.0, 0.0), Fixed::from_f32(100.0)).unwrap());
+        assert_eq!(check_shape(&near, &[], 0), Ok(()));
+        assert_eq!(check_shape(&far, &[], 7), Err(RangeError { item: RangeItem::Primitive(7), magnitude: 4100, limit: 4096 }));
     }
 
     #[test]
-    fn quadric_check_is_scale_aware() {
+    fn intermediates_scale_with_the_extent() {
         // A small ellipsoid (coefficients 1/0.3² ≈ 11) is fine in a scene 10
         // units wide and rejected in one 2000 units wide.
-        let build = |far: f32| {
-            let mut s = Small::<Fixed>::new();
-            let m = s.add_material(Material::diffuse(v(1.0, 1.0, 1.0))).unwrap();
-            let q = Quadric::ellipsoid(v(0.0, 0.0, 0.0), v(0.3, 0.3, 0.3)).unwrap();
-            s.add_quadric(q, m).unwrap();
-            s.add_light(v(far, 0.0, 0.0), v(1.0, 1.0, 1.0)).unwrap();
-            s
-        };
-        let near = build(10.0);
-        assert_eq!(check_scene(&near.view(), &cam(v(0.0, -5.0, 1.0))), Ok(10.0));
-        let far = build(2000.0);
-        let e = check_scene(&far.view(), &cam(v(0.0, -5.0, 1.0))).unwrap_err();
+        let q = Shape::Quadric(Quadric::ellipsoid(v::<Fixed>(0.0, 0.0, 0.0), v(0.3, 0.3, 0.3)).unwrap());
+        assert_eq!(check_intermediates(&q, 10.0, 0), Ok(()));
+        let e = check_intermediates(&q, 2000.0, 0).unwrap_err();
         assert_eq!(e.item, RangeItem::Intermediate(0));
         assert!(e.magnitude > e.limit);
         // Cones: a steep slope scales the intermediates by k⁴.
-        let mut s = Small::<Fixed>::new();
-        let m = s.add_material(Material::diffuse(v(1.0, 1.0, 1.0))).unwrap();
-        s.add_cone(v(0.0, 0.0, 0.0), Fixed::from_f32(1.0), v(0.0, 0.0, 1.0), Fixed::from_f32(0.5), m).unwrap();
-        assert!(check_scene(&s.view(), &cam(v(0.0, -5.0, 1.0))).is_ok());
-        s.add_cone(v(0.0, 0.0, 0.0), Fixed::from_f32(100.0), v(0.0, 0.0, 0.01), Fixed::from_f32(0.0), m).unwrap();
-        assert_eq!(check_scene(&s.view(), &cam(v(0.0, -5.0, 1.0))).unwrap_err().item, RangeItem::Intermediate(1));
-    }
-
-    #[test]
-    fn demo_scene_fits() {
-        let s = crate::demo::demo_scene::<Fixed>().unwrap();
-        let c = crate::demo::demo_camera::<Fixed>(16, 16).unwrap();
-        assert!(check_scene(&s.view(), &c).is_ok());
+        let gentle = Shape::Cone(Cone::new(v::<Fixed>(0.0, 0.0, 0.0), Fixed::ONE, v(0.0, 0.0, 1.0), Fixed::HALF).unwrap());
+        assert_eq!(check_intermediates(&gentle, 10.0, 0), Ok(()));
+        let steep = Shape::Cone(Cone::new(v::<Fixed>(0.0, 0.0, 0.0), Fixed::from_f32(100.0), v(0.0, 0.0, 0.01), Fixed::ZERO).unwrap());
+        assert_eq!(check_intermediates(&steep, 10.0, 1).unwrap_err().item, RangeItem::Intermediate(1));
+        // f32 has no limit.
+        let q = Shape::Quadric(Quadric::ellipsoid(v::<f32>(0.0, 0.0, 0.0), v(0.3, 0.3, 0.3)).unwrap());
+        assert_eq!(check_intermediates(&q, 1.0e6, 0), Ok(()));
     }
 }

@@ -26,7 +26,7 @@ impl<S: Scalar, const W: usize> RayPacket<S, W> {
     /// Directions are normalized. The returned mask clears every lane whose
     /// direction has zero length or whose numbers are not finite: such a ray
     /// is a defined "hits nothing" ray, never a NaN.
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn new(origin: Vec3xW<S, W>, dir: Vec3xW<S, W>) -> (Self, Mask<W>) {
         let (d, mut ok) = dir.normalize();
         for i in 0..W {

@@ -8,6 +8,7 @@
 
 use crate::camera::{packet_shape, Camera, Rect};
 use crate::lanes::{Lanes, Mask};
+use crate::query::{Accelerator, BruteForce};
 use crate::scalar::Scalar;
 use crate::trace::{RayStats, Tracer};
 use crate::vec3::Vec3;
@@ -51,9 +52,9 @@ impl core::fmt::Display for BufferTooSmall {
 
 /// A tracer, a camera and an AOV: everything needed to render pixels.
 #[derive(Clone, Copy, Debug)]
-pub struct Renderer<'a, S, const D: usize = 8> {
-    /// The tracer (scene and settings).
-    pub tracer: Tracer<'a, S, D>,
+pub struct Renderer<'a, S, A = BruteForce, const D: usize = 8> {
+    /// The tracer (scene, accelerator and settings).
+    pub tracer: Tracer<'a, S, A, D>,
     /// The camera (and image size).
     pub camera: Camera<S>,
     /// What to write per pixel.
@@ -64,16 +65,24 @@ fn u24(v: u32) -> Rgb8 {
     [(v >> 16) as u8, (v >> 8) as u8, v as u8]
 }
 
-impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
+impl core::error::Error for BufferTooSmall {}
+
+impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// A renderer of the colour AOV.
-    pub fn new(tracer: Tracer<'a, S, D>, camera: Camera<S>) -> Self {
+    pub fn new(tracer: Tracer<'a, S, A, D>, camera: Camera<S>) -> Self {
         Renderer { tracer, camera, aov: Aov::Color }
+    }
+
+    /// The same renderer with its tracer's accelerator replaced by `f(accel)`
+    /// (see [`Tracer::map_accelerator`]).
+    pub fn map_accelerator<B: Accelerator<S>>(self, f: impl FnOnce(A) -> B) -> Renderer<'a, S, B, D> {
+        Renderer { tracer: self.tracer.map_accelerator(f), camera: self.camera, aov: self.aov }
     }
 
     /// Renders the pixels of `rect` (clipped to the image) with packets of
     /// width `W` into `out`, row-major with row stride `rect.w`. Ray counts
     /// are added to `stats`.
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn render_rect<const W: usize>(&self, rect: Rect, out: &mut [Rgb8], stats: &mut RayStats) -> Result<(), BufferTooSmall> {
         // Saturating (a 32-bit usize can overflow): an impossible size is
         // simply larger than any buffer.
@@ -109,7 +118,7 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
     }
 
     /// The pixels of one packet of primary rays.
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn shade_packet<const W: usize>(&self, ray: &crate::ray::RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> [Rgb8; W] {
         let mut px = [[0u8; 3]; W];
         match self.aov {
@@ -122,8 +131,7 @@ impl<'a, S: Scalar, const D: usize> Renderer<'a, S, D> {
             }
             aov => {
                 stats.add_primary(active.count() as u64);
-                let scene = self.tracer.scene();
-                let hit = scene.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
+                let hit = self.tracer.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
                 let surf = if aov == Aov::Normal { Some(self.tracer.surface(ray, &hit)) } else { None };
                 for (l, p) in px.iter_mut().enumerate() {
                     if !active.get(l) {

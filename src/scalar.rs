@@ -63,12 +63,16 @@ pub trait Scalar:
     /// scene points) stay representable; see [`crate::range`]. Unlimited
     /// (`f32::MAX`) for `f32`.
     const COORDINATE_LIMIT: f32 = f32::MAX;
-    /// Whether the instruction-set dispatcher (`dispatch`, std) should use
-    /// BVH leaf tests compiled for AVX2/AVX-512 with this type (see
-    /// [`crate::bvh::isa`]). `true` for `f32`, whose packed arithmetic gains
-    /// from wider registers; `false` by default (fixed point's 128-bit
-    /// products do not vectorize, and each copy costs compile time).
-    const ISA_LEAVES: bool = false;
+    /// The largest single intermediate a kernel may form with this type
+    /// (quadric and cone discriminant terms are checked against it; see
+    /// [`crate::range`]). Unlimited (`f32::MAX`) for `f32`.
+    const INTERMEDIATE_LIMIT: f32 = f32::MAX;
+    /// Whether wider vector units speed this type up: the instruction-set
+    /// dispatcher (`dispatch`, std) compiles AVX2 and AVX-512 copies of the
+    /// render path only for such scalars (each copy costs compile time).
+    /// `true` for `f32`; `false` by default (integer fixed point gains
+    /// little from them).
+    const PACKED: bool = false;
 
     /// Converts from `f32` (set-up time only: scene input, camera angles).
     /// Out-of-range values saturate; NaN becomes zero.
@@ -152,13 +156,13 @@ pub trait Scalar:
 }
 
 impl Scalar for f32 {
+    const PACKED: bool = true;
     /// Bitwise blend (see [`Scalar::blend`]): exactly `a` or `b`, NaN
     /// payloads and signed zeros included, as `mask` is all ones or zero.
     #[inline(always)]
     fn blend(mask: u32, a: Self, b: Self) -> Self {
         f32::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
     }
-    const ISA_LEAVES: bool = true;
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const HALF: Self = 0.5;

@@ -3,13 +3,12 @@
 //!
 //! [`Scene`] owns its storage (heapless vectors, no allocator); tracing works
 //! on a [`SceneView`] of slices, so the tracer is not monomorphized per
-//! capacity and a scene can also be assembled from static slices.
+//! capacity and a scene can also be assembled from static slices. Both are
+//! plain data: how a scene is searched is the business of
+//! [`crate::query`].
 
-use crate::bvh::{Bvh, BvhError, BvhView};
-use crate::lanes::{Lanes, Mask};
 use crate::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Polygon, Quadric, Shape, ShapeKind, Sphere};
 use crate::range::{self, RangeError, RangeItem};
-use crate::ray::RayPacket;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 use heapless::Vec as HVec;
@@ -172,6 +171,9 @@ impl From<CapacityError> for SceneError {
         SceneError::Capacity(e)
     }
 }
+
+impl core::error::Error for CapacityError {}
+impl core::error::Error for SceneError {}
 
 impl core::fmt::Display for SceneError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -400,20 +402,8 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             materials: &self.materials,
             lights: &self.lights,
             background: self.background,
-            bvh: None,
         }
     }
-}
-
-/// Per-lane result of a closest-hit query.
-#[derive(Clone, Copy, Debug)]
-pub struct Hit<S, const W: usize> {
-    /// Distance along the ray (meaningful where `mask` is set).
-    pub t: Lanes<S, W>,
-    /// Index of the primitive hit (meaningful where `mask` is set).
-    pub prim: [u32; W],
-    /// Lanes that hit something.
-    pub mask: Mask<W>,
 }
 
 /// A read-only scene made of slices: what the tracer works on.
@@ -424,8 +414,6 @@ pub struct SceneView<'a, S> {
     materials: &'a [Material<S>],
     lights: &'a [Light<S>],
     background: Vec3<S>,
-    /// The acceleration tree, if one was attached ([`SceneView::with_bvh`]).
-    bvh: Option<BvhView<'a, S>>,
 }
 
 /// The material used where a primitive names a material the view lacks
@@ -459,36 +447,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
         for m in materials {
             m.validate()?;
         }
-        Ok(SceneView { prims, verts, materials, lights, background, bvh: None })
-    }
-
-    /// The same view, with queries going through `bvh` (which must have been
-    /// built for this scene: a different primitive count is an error).
-    /// Results are bit-identical to the brute-force loops.
-    pub fn with_bvh<const N: usize>(self, bvh: &'a Bvh<S, N>) -> Result<Self, BvhError> {
-        let tree = bvh.view();
-        if tree.primitive_count() != self.prims.len() {
-            return Err(BvhError::SceneMismatch { built_for: tree.primitive_count(), view_has: self.prims.len() });
-        }
-        Ok(SceneView { bvh: Some(tree), ..self })
-    }
-
-    /// The same view without a tree: every query tests every primitive.
-    pub fn without_bvh(self) -> Self {
-        SceneView { bvh: None, ..self }
-    }
-
-    /// The same view, its BVH traversals (if a tree is attached) calling
-    /// the leaf tests of `isa` (see [`crate::bvh::isa`]).
-    // (Only the std dispatcher switches instruction sets.)
-    #[cfg_attr(not(feature = "std"), allow(dead_code))]
-    pub(crate) fn with_leaf_isa(self, isa: crate::bvh::LeafIsa) -> Self {
-        SceneView { bvh: self.bvh.map(|b| b.with_leaf_isa(isa)), ..self }
-    }
-
-    /// The attached tree, if any.
-    pub fn bvh(&self) -> Option<BvhView<'a, S>> {
-        self.bvh
+        Ok(SceneView { prims, verts, materials, lights, background })
     }
 
     /// The primitives, in index order.
@@ -512,7 +471,7 @@ impl<'a, S: Scalar> SceneView<'a, S> {
         self.background
     }
     /// The material of primitive `prim`.
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn material_of(&self, prim: u32) -> Material<S> {
         self.prims
             .get(prim as usize)
@@ -532,112 +491,43 @@ impl<'a, S: Scalar> SceneView<'a, S> {
             .reduce(|(a, b), (c, d)| (a.min_elem(c), b.max_elem(d)))
     }
 
-    /// The nearest hit of each active ray in `(t_min, t_max)`.
-    ///
-    /// Ties (two primitives at exactly the same distance) go to the lower
-    /// primitive index, whatever the packet width. Goes through the BVH when
-    /// one is attached; the result is the same bits either way.
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    pub fn closest_hit<const W: usize>(
-        &self,
-        ray: &RayPacket<S, W>,
-        t_min: Lanes<S, W>,
-        t_max: Lanes<S, W>,
-        active: Mask<W>,
-    ) -> Hit<S, W> {
-        match &self.bvh {
-            Some(tree) => tree.closest_hit(self, ray, t_min, t_max, active),
-            None => self.closest_hit_brute_force(ray, t_min, t_max, active),
-        }
+    /// The transmission weight `Kt` of material `m` (0, opaque, for a
+    /// material the view lacks).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn kt_of_material(&self, m: u16) -> S {
+        self.materials.get(m as usize).map_or(S::ZERO, |m| m.kt)
     }
 
-    /// [`SceneView::closest_hit`] testing every primitive in index order
-    /// (the reference the BVH must match).
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    pub fn closest_hit_brute_force<const W: usize>(
-        &self,
-        ray: &RayPacket<S, W>,
-        t_min: Lanes<S, W>,
-        t_max: Lanes<S, W>,
-        active: Mask<W>,
-    ) -> Hit<S, W> {
-        let mut best_t = t_max;
-        let mut best_id = [u32::MAX; W];
-        if active.any() {
-            // (A `Range` index rather than `enumerate`, whose counter has an
-            // overflow check in debug builds: the render path has no panic path.)
-            for (k, p) in (0..self.prims.len()).zip(self.prims.iter()) {
-                // Only roots strictly nearer than the best so far come back, so a
-                // later primitive at the same distance never replaces an earlier one.
-                let r = p.shape.roots(self.verts, ray, t_min, best_t, active);
-                let (t, m) = r.nearest();
-                if m.none() {
-                    continue;
-                }
-                best_t = Lanes::select(m, t, best_t);
-                best_id = m.select_u32([k as u32; W], best_id);
+    /// The whole-scene range check for limited-range scalars (fixed point),
+    /// for rays starting at `eye` (the camera's): every coordinate (eye,
+    /// lights, primitives) within [`Scalar::COORDINATE_LIMIT`], and every
+    /// quadric's and cone's intersection intermediates within
+    /// [`Scalar::INTERMEDIATE_LIMIT`] for ray origins anywhere in the
+    /// scene's extent `R` (the largest coordinate magnitude, at least 1;
+    /// see [`range::intermediate_bound`]). Returns `R`; always `Ok` for
+    /// `f32`. `Scene::add_*` already checks each item's coordinates; this
+    /// adds what depends on the whole scene.
+    pub fn check_range(&self, eye: Vec3<S>) -> Result<f32, RangeError> {
+        if !S::LIMITED_RANGE {
+            return Ok(f32::MAX);
+        }
+        range::check_point(eye, RangeItem::Camera)?;
+        let mut extent = range::magnitude(eye);
+        for (k, light) in (0u32..).zip(self.lights.iter()) {
+            range::check_point(light.position, RangeItem::Light(k))?;
+            extent = extent.max(range::magnitude(light.position));
+        }
+        for (k, p) in (0u32..).zip(self.prims.iter()) {
+            range::check_shape(&p.shape, self.verts, k)?;
+            if let Some(m) = range::shape_extent(&p.shape, self.verts) {
+                extent = extent.max(m);
             }
         }
-        // Which lanes found something follows from the ids (kept out of the
-        // loop to leave registers for the ray).
-        let mut found = Mask::splat(false);
-        for i in 0..W {
-            found.set(i, best_id[i] != u32::MAX);
+        let r = extent.max(1.0);
+        for (k, p) in (0u32..).zip(self.prims.iter()) {
+            range::check_intermediates(&p.shape, r, k)?;
         }
-        Hit { t: best_t, prim: best_id, mask: found }
-    }
-
-    /// Fraction of light that reaches the end of each active ray segment
-    /// `(t_min, t_max)`: every surface crossed multiplies it by the crossed
-    /// object's `Kt` (an opaque object stops it; a glass sphere gives `Kt²`).
-    /// Inactive lanes return 0. Goes through the BVH when one is attached;
-    /// the result is the same bits either way.
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    pub fn transmittance<const W: usize>(
-        &self,
-        ray: &RayPacket<S, W>,
-        t_min: Lanes<S, W>,
-        t_max: Lanes<S, W>,
-        active: Mask<W>,
-    ) -> Lanes<S, W> {
-        match &self.bvh {
-            Some(tree) => tree.transmittance(self, ray, t_min, t_max, active),
-            None => self.transmittance_brute_force(ray, t_min, t_max, active),
-        }
-    }
-
-    /// [`SceneView::transmittance`] testing every primitive in index order
-    /// (the reference the BVH must match).
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    pub fn transmittance_brute_force<const W: usize>(
-        &self,
-        ray: &RayPacket<S, W>,
-        t_min: Lanes<S, W>,
-        t_max: Lanes<S, W>,
-        active: Mask<W>,
-    ) -> Lanes<S, W> {
-        let mut trans = Lanes::select(active, Lanes::splat(S::ONE), Lanes::zero());
-        let mut live = active;
-        for p in self.prims.iter() {
-            if live.none() {
-                break;
-            }
-            let r = p.shape.roots(self.verts, ray, t_min, t_max, live);
-            if r.hit0.none() {
-                continue;
-            }
-            let kt = self.materials.get(p.material as usize).map(|m| m.kt).unwrap_or(S::ZERO);
-            if kt == S::ZERO {
-                // Opaque: these lanes are in shadow; stop tracing them.
-                trans = Lanes::select(r.hit0, Lanes::zero(), trans);
-                live = live.and_not(r.hit0);
-            } else {
-                // One factor per crossing, in primitive order.
-                trans = Lanes::select(r.hit0, trans * kt, trans);
-                trans = Lanes::select(r.hit1, trans * kt, trans);
-            }
-        }
-        trans
+        Ok(r)
     }
 }
 
@@ -715,37 +605,5 @@ mod tests {
         assert_eq!(s.add_polygon(&line, m), Ok(0));
         assert_eq!(s.add_sphere(Vec3::ZERO, 1.0, m), Ok(1));
         assert_eq!(s.degenerate_polygons(), 1);
-    }
-
-    #[test]
-    fn closest_hit_prefers_nearest_then_lowest_index() {
-        let mut s = Small::new();
-        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
-        s.add_sphere(Vec3::new(0.0, 0.0, 10.0), 1.0, m).unwrap();
-        s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, m).unwrap();
-        s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, m).unwrap(); // same surface as 1
-        let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
-        let h = s.view().closest_hit(&ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), Mask::splat(true));
-        assert!(h.mask.get(0));
-        assert_eq!(h.prim[0], 1);
-        assert_eq!(h.t.0[0], 4.0);
-    }
-
-    #[test]
-    fn transmittance_multiplies_kt_per_crossing() {
-        let mut s = Small::new();
-        let mut glass = Material::diffuse(Vec3::new(1.0, 1.0, 1.0));
-        glass.kt = 0.5;
-        let g = s.add_material(glass).unwrap();
-        let o = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
-        s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, g).unwrap();
-        let view = s.view();
-        let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
-        let all = Mask::splat(true);
-        assert_eq!(view.transmittance(&ray, Lanes::splat(0.0), Lanes::splat(10.0), all).0[0], 0.25);
-        assert_eq!(view.transmittance(&ray, Lanes::splat(0.0), Lanes::splat(5.0), all).0[0], 0.5);
-        s.add_sphere(Vec3::new(0.0, 0.0, 8.0), 0.5, o).unwrap();
-        let view = s.view();
-        assert_eq!(view.transmittance(&ray, Lanes::splat(0.0), Lanes::splat(10.0), all).0[0], 0.0);
     }
 }

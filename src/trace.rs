@@ -15,9 +15,10 @@
 //! on the packet width.
 
 use crate::lanes::{Lanes, Mask};
+use crate::query::{Accelerator, BruteForce, Hit, SceneMismatch};
 use crate::ray::RayPacket;
 use crate::scalar::Scalar;
-use crate::scene::{Hit, SceneView};
+use crate::scene::SceneView;
 use crate::vec3::{Vec3, Vec3xW};
 use heapless::Vec as HVec;
 
@@ -133,20 +134,31 @@ impl RayStats {
     }
 }
 
-/// The settings ask for more depth than the tracer's stack holds.
+/// Why a tracer could not be made.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct DepthError {
-    /// The depth asked for.
-    pub requested: u32,
-    /// The largest depth this tracer supports (its `D`).
-    pub supported: u32,
+pub enum TraceError {
+    /// The settings ask for a depth of 0, or more than the tracer's stack
+    /// holds.
+    Depth {
+        /// The depth asked for.
+        requested: u32,
+        /// The largest depth this tracer supports (its `D`).
+        supported: u32,
+    },
+    /// The accelerator was built for another scene.
+    Accelerator(SceneMismatch),
 }
 
-impl core::fmt::Display for DepthError {
+impl core::fmt::Display for TraceError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "depth {} not supported (1 to {})", self.requested, self.supported)
+        match self {
+            TraceError::Depth { requested, supported } => write!(f, "depth {requested} not supported (1 to {supported})"),
+            TraceError::Accelerator(m) => m.fmt(f),
+        }
     }
 }
+
+impl core::error::Error for TraceError {}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum RayKind {
@@ -178,35 +190,59 @@ pub struct SurfacePacket<S, const W: usize> {
     pub entering: Mask<W>,
 }
 
-/// A tracer over one scene, with a bounded stack of `D` pending packets
-/// (so depths 1 to `D` are supported).
+/// A tracer over one scene, querying it through the accelerator `A`, with
+/// a bounded stack of `D` pending packets (so depths 1 to `D` are
+/// supported).
 #[derive(Clone, Copy, Debug)]
-pub struct Tracer<'a, S, const D: usize = 8> {
+pub struct Tracer<'a, S, A = BruteForce, const D: usize = 8> {
     scene: SceneView<'a, S>,
+    accel: A,
     settings: TraceSettings<S>,
 }
 
-impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
-    /// A tracer; errors if `settings.max_depth` is 0 or exceeds `D`.
-    pub fn new(scene: SceneView<'a, S>, settings: TraceSettings<S>) -> Result<Self, DepthError> {
+impl<'a, S: Scalar, const D: usize> Tracer<'a, S, BruteForce, D> {
+    /// A tracer that tests every primitive ([`BruteForce`]); errors if
+    /// `settings.max_depth` is 0 or exceeds `D`.
+    pub fn new(scene: SceneView<'a, S>, settings: TraceSettings<S>) -> Result<Self, TraceError> {
+        Self::with_accelerator(scene, BruteForce, settings)
+    }
+}
+
+impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
+    /// A tracer querying `scene` through `accel` (for example a
+    /// [`BvhView`](crate::query::BvhView)); errors if `settings.max_depth`
+    /// is 0 or exceeds `D`, or if `accel` was built for another scene.
+    pub fn with_accelerator(scene: SceneView<'a, S>, accel: A, settings: TraceSettings<S>) -> Result<Self, TraceError> {
         if settings.max_depth == 0 || settings.max_depth as usize > D {
-            return Err(DepthError {
+            return Err(TraceError::Depth {
                 requested: settings.max_depth,
                 supported: D as u32,
             });
         }
-        Ok(Tracer { scene, settings })
+        accel.check(&scene).map_err(TraceError::Accelerator)?;
+        Ok(Tracer { scene, accel, settings })
+    }
+
+    /// The same tracer with its accelerator replaced by `f(accel)`, which
+    /// must answer every query exactly as the old one did (the dispatcher
+    /// wraps accelerators in copies compiled for other instruction sets).
+    pub fn map_accelerator<B: Accelerator<S>>(self, f: impl FnOnce(A) -> B) -> Tracer<'a, S, B, D> {
+        Tracer { scene: self.scene, accel: f(self.accel), settings: self.settings }
     }
 
     /// The scene traced.
     pub fn scene(&self) -> &SceneView<'a, S> {
         &self.scene
     }
-    /// The same tracer, its BVH traversals calling the leaf tests of `isa`.
-    // (Only the std dispatcher switches instruction sets.)
-    #[cfg_attr(not(feature = "std"), allow(dead_code))]
-    pub(crate) fn with_leaf_isa(self, isa: crate::bvh::LeafIsa) -> Self {
-        Tracer { scene: self.scene.with_leaf_isa(isa), ..self }
+    /// The accelerator queries go through.
+    pub fn accelerator(&self) -> &A {
+        &self.accel
+    }
+    /// The nearest hit of each active ray in `(t_min, t_max)` (see
+    /// [`Accelerator::closest_hit`]).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn closest_hit<const W: usize>(&self, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Hit<S, W> {
+        self.accel.closest_hit(&self.scene, ray, t_min, t_max, active)
     }
     /// The settings.
     pub fn settings(&self) -> &TraceSettings<S> {
@@ -215,7 +251,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
 
     /// Surface data at the closest hits of `ray` (lanes outside `hit.mask`
     /// hold zeros).
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn surface<const W: usize>(&self, ray: &RayPacket<S, W>, hit: &Hit<S, W>) -> SurfacePacket<S, W> {
         let point = ray.at(hit.t);
         let zero = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
@@ -250,7 +286,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
 
     /// Traces a packet of rays (unit directions) and returns the linear
     /// colour of each active lane (zero elsewhere).
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn trace<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
         let zero = Lanes::<S, W>::zero();
         let mut color = Vec3::new(zero, zero, zero);
@@ -271,7 +307,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
                 RayKind::Reflected => RayStats::tally(&mut stats.reflected, &mut stats.reflected_packets, n),
                 RayKind::Refracted => RayStats::tally(&mut stats.refracted, &mut stats.refracted_packets, n),
             }
-            let hit = self.scene.closest_hit(&p.ray, zero, Lanes::splat(S::MAX), p.active);
+            let hit = self.closest_hit(&p.ray, zero, Lanes::splat(S::MAX), p.active);
             // Rays that hit nothing see the background.
             let miss = p.active.and_not(hit.mask);
             if miss.any() {
@@ -303,7 +339,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
 
     /// Local shading (ambient, diffuse, Phong highlight) of the hit lanes,
     /// with shadow rays in Whitted mode.
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn local<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
@@ -332,7 +368,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
             let trans = if shadows {
                 RayStats::tally(&mut stats.shadow, &mut stats.shadow_packets, lit.count() as u64);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
-                self.scene.transmittance(&shadow, zero, dist, lit)
+                self.accel.transmittance(&self.scene, &shadow, zero, dist, lit)
             } else {
                 Lanes::select(lit, Lanes::splat(S::ONE), zero)
             };
@@ -359,7 +395,7 @@ impl<'a, S: Scalar, const D: usize> Tracer<'a, S, D> {
     }
 
     /// Pushes the reflected and refracted packets of a hit packet.
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn spawn<const W: usize>(
         &self,
         p: &Pending<S, W>,
@@ -438,7 +474,7 @@ struct Materials<S, const W: usize> {
 }
 
 impl<S: Scalar, const W: usize> Materials<S, W> {
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn gather(scene: &SceneView<'_, S>, hit: &Hit<S, W>) -> Self {
         let z = Lanes::zero();
         let mut m = Materials {

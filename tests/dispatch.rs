@@ -13,35 +13,25 @@
 mod common;
 use common::*;
 use raypack::demo::{demo_camera, demo_scene};
-use raypack::dispatch::{self, Isa};
+use raypack::dispatch::Isa;
+use raypack::image::{render_tiles, Tiling};
 use raypack::prelude::*;
 
-/// Renders `renderer`'s whole image in tiles of `tile` pixels with width
-/// `W`, either directly (`isa = None`) or through the dispatcher.
-fn render<const W: usize>(renderer: &Renderer<'_, f32>, isa: Option<Isa>, tile: u32) -> (Vec<Rgb8>, RayStats) {
-    let (w, h) = (renderer.camera.width(), renderer.camera.height());
-    let mut img = vec![[0u8; 3]; (w * h) as usize];
+/// `renderer`'s whole image with packets of one ray, by one plain
+/// `render_rect` call (no dispatcher, no tiles): the reference.
+fn plain<A: Accelerator<f32>>(renderer: &Renderer<'_, f32, A>) -> (Vec<Rgb8>, RayStats) {
+    let rect = renderer.camera.full_rect();
+    let mut img = vec![[0u8; 3]; (rect.w * rect.h) as usize];
     let mut stats = RayStats::default();
-    let mut buf = vec![[0u8; 3]; (tile * tile) as usize];
-    let mut y = 0;
-    while y < h {
-        let mut x = 0;
-        while x < w {
-            let rect = Rect { x, y, w: tile.min(w - x), h: tile.min(h - y) };
-            match isa {
-                None => renderer.render_rect::<W>(rect, &mut buf, &mut stats).unwrap(),
-                Some(isa) => dispatch::render_rect::<f32, 8, W>(isa, renderer, rect, &mut buf, &mut stats).unwrap(),
-            }
-            for j in 0..rect.h {
-                for i in 0..rect.w {
-                    img[((y + j) * w + x + i) as usize] = buf[(j * rect.w + i) as usize];
-                }
-            }
-            x += tile;
-        }
-        y += tile;
-    }
+    renderer.render_rect::<1>(rect, &mut img, &mut stats).unwrap();
     (img, stats)
+}
+
+/// `renderer`'s whole image through the dispatcher: tiles of 16 pixels,
+/// packets of `packet` rays compiled for `isa`.
+fn dispatched<A: Accelerator<f32> + Sync>(renderer: &Renderer<'_, f32, A>, packet: usize, isa: Isa) -> (Vec<Rgb8>, RayStats) {
+    let tiling = Tiling { packet, isa, threads: 1, tile: 16 };
+    render_tiles(renderer, renderer.camera.full_rect(), &tiling, &|| {}).unwrap()
 }
 
 /// The instruction sets to compare, printing why any is skipped.
@@ -60,19 +50,15 @@ fn isas() -> Vec<Isa> {
 
 /// Every dispatched render equals the direct baseline render, at every width.
 fn check(renderer: &Renderer<'_, f32>, what: &str) {
-    check_against(renderer, render::<1>(renderer, None, 16), what)
+    check_against(renderer, plain(renderer), what)
 }
 
 /// Every dispatched render of `renderer`, at every width, equals `reference`
 /// (its image and the rays it traced).
-fn check_against(renderer: &Renderer<'_, f32>, (reference, ref_stats): (Vec<Rgb8>, RayStats), what: &str) {
+fn check_against<A: Accelerator<f32> + Sync>(renderer: &Renderer<'_, f32, A>, (reference, ref_stats): (Vec<Rgb8>, RayStats), what: &str) {
     for isa in isas() {
-        for (w, (img, stats)) in [
-            (1, render::<1>(renderer, Some(isa), 16)),
-            (4, render::<4>(renderer, Some(isa), 16)),
-            (8, render::<8>(renderer, Some(isa), 16)),
-            (16, render::<16>(renderer, Some(isa), 16)),
-        ] {
+        for w in [1, 4, 8, 16] {
+            let (img, stats) = dispatched(renderer, w, isa);
             assert!(img == reference, "{what}: {isa} width {w} differs from the reference");
             assert_eq!(stats.rays(), ref_stats.rays(), "{what}: {isa} width {w} traced different rays");
         }
@@ -86,7 +72,7 @@ fn every_isa_renders_the_demo_scene_to_the_same_bytes() {
     let renderer = Renderer::new(tracer, demo_camera(48, 36).unwrap());
     check(&renderer, "demo");
     // The image must show the scene, or the comparison proves little.
-    let (img, _) = render::<8>(&renderer, None, 16);
+    let (img, _) = plain(&renderer);
     let distinct: std::collections::HashSet<Rgb8> = img.iter().copied().collect();
     assert!(distinct.len() > 50, "demo image has only {} colours", distinct.len());
 }
@@ -107,9 +93,9 @@ fn every_isa_renders_random_scenes_to_the_same_bytes() {
 
 #[test]
 fn every_isa_renders_bvh_scenes_to_the_bytes_of_brute_force() {
-    // With a tree attached, the dispatcher also switches the BVH leaf tests
-    // (compiled apart from the inlined path, `raypack::bvh::isa`) to its
-    // instruction set. Reference: the plain render without a tree.
+    // With a tree, the dispatcher compiles the tree's queries (traversal
+    // and leaf tests) for its instruction set too. Reference: the plain
+    // render without a tree.
     let mut rng = Rng(7013);
     for case in 0..6 {
         let scene = random_scene(&mut rng, 14 + case * 5);
@@ -118,33 +104,24 @@ fn every_isa_renders_bvh_scenes_to_the_bytes_of_brute_force() {
         bvh.build(&scene.view()).unwrap();
         for aov in [Aov::Color, Aov::Id] {
             let plain: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
-            let brute_force = render::<1>(&Renderer { tracer: plain, camera, aov }, None, 16);
-            let tree: Tracer<f32> = Tracer::new(scene.view().with_bvh(&bvh).unwrap(), TraceSettings::default()).unwrap();
+            let brute_force = self::plain(&Renderer { tracer: plain, camera, aov });
+            let tree = Tracer::<f32, _>::with_accelerator(scene.view(), bvh.view(), TraceSettings::default()).unwrap();
             check_against(&Renderer { tracer: tree, camera, aov }, brute_force, &format!("bvh case {case} {aov:?} (vs brute force)"));
         }
     }
 }
 
 #[test]
-fn isa_views_carry_the_leaf_tests_of_their_isa() {
-    // The token that picks the compiled copy of the BVH leaf tests follows
-    // the instruction set actually used (baseline where the CPU lacks one).
-    let mut rng = Rng(5);
-    let scene = random_scene(&mut rng, 10);
-    let mut bvh: Box<Bvh<f32, 16>> = Box::new(Bvh::new());
-    bvh.build(&scene.view()).unwrap();
-    let view = scene.view().with_bvh(&bvh).unwrap();
-    assert_eq!(view.bvh().unwrap().leaf_isa().name(), "plain");
+fn the_isa_used_follows_the_scalar_and_packet() {
+    // Packets of 8 and 16 f32 lanes run the instruction set asked for (the
+    // baseline where the CPU lacks it); narrower packets and fixed point
+    // always run the baseline copy.
     for isa in Isa::ALL {
-        let expect = match isa.effective() {
-            Isa::Baseline => "plain",
-            other => other.name(),
-        };
-        assert_eq!(isa.view(view).bvh().unwrap().leaf_isa().name(), expect, "{isa}");
-        assert_eq!(isa.leaf_isa().name(), expect, "{isa}");
+        assert_eq!(isa.used_for::<f32>(8), isa.effective(), "{isa}");
+        assert_eq!(isa.used_for::<f32>(16), isa.effective(), "{isa}");
+        assert_eq!(isa.used_for::<f32>(4), Isa::Baseline, "{isa}");
+        assert_eq!(isa.used_for::<Fixed>(16), Isa::Baseline, "{isa}");
     }
-    // A view without a tree stays without one.
-    assert!(Isa::best().view(scene.view()).bvh().is_none());
 }
 
 #[test]

@@ -50,7 +50,7 @@ fn demo_scene_fixed_matches_f32_and_widths_agree() {
     let sf = demo_scene::<f32>().unwrap();
     let sx = demo_scene::<Fixed>().unwrap();
     let cx = demo_camera::<Fixed>(w, h).unwrap();
-    assert!(check_scene(&sx.view(), &cx).is_ok());
+    assert!(sx.view().check_range(cx.eye()).is_ok());
     let (p, a) = compare("demo", (&sf.view(), demo_camera(w, h).unwrap()), (&sx.view(), cx));
     assert!(p >= MIN_PSNR_DB, "demo: PSNR {p:.2} dB");
     assert!(a >= MIN_ID_AGREEMENT, "demo: ID agreement {a}");
@@ -68,7 +68,7 @@ fn random_scenes_fixed_matches_f32_and_widths_agree() {
         let mut rx = Rng(0xF1ED_0000 + case);
         let sx = random_scene_in::<Fixed>(&mut rx, n);
         let cx = random_camera_in::<Fixed>(&mut rx, 64, 48);
-        assert!(check_scene(&sx.view(), &cx).is_ok(), "case {case}");
+        assert!(sx.view().check_range(cx.eye()).is_ok(), "case {case}");
         let (p, a) = compare(&format!("random case {case}"), (&sf.view(), cf), (&sx.view(), cx));
         // The scene is not trivial: the camera sees several primitives.
         let (ids, _) = render_in::<f32, 8>(&sf.view(), cf, TraceSettings::default(), Aov::Id, 64);

@@ -9,18 +9,13 @@
 //! against an independent `f64` tracer in `tests/whitted_reference.rs`).
 
 mod common;
-use common::{agreement, psnr, render_in};
-use raypack::bvh::Bvh;
-use raypack::nff;
+use common::{agreement, psnr};
+use raypack::image::{AccelKind, Image, Options, ScalarKind};
 use raypack::prelude::*;
 
 /// Quality floors from the fixed-point issue.
 const MIN_PSNR_DB: f64 = 35.0;
 const MIN_ID_AGREEMENT: f64 = 0.995;
-
-/// Big enough for every file here (gears-2 is the largest).
-type Big<S> = Scene<S, 16384, 65536, 64, 16>;
-type Tree<S> = Bvh<S, 16384>;
 
 const SCENES: [(&str, &str, u32); 14] = [
     ("balls-1", include_str!("scenes/balls-1.nff"), 96),
@@ -39,22 +34,17 @@ const SCENES: [(&str, &str, u32); 14] = [
     ("gears-2", include_str!("scenes/gears-2.nff"), 64),
 ];
 
-/// Renders `text` with scalar `S` at `size × size` (colour and ID, width 8;
-/// and, when `widths` is set, also widths 1 and 4, asserted bit-identical).
-fn render_scene<S: Scalar>(name: &str, text: &str, size: u32, widths: bool) -> (Vec<Rgb8>, Vec<Rgb8>) {
-    let mut scene = Box::new(Big::<S>::new());
-    let info = nff::parse(text, &mut *scene).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let camera = info.camera.unwrap().camera::<S>(size, size).unwrap();
-    assert!(check_scene(&scene.view(), &camera).is_ok(), "{name}: range");
-    let mut bvh = Box::new(Tree::<S>::new());
-    bvh.build(&scene.view()).unwrap();
-    let view = scene.view().with_bvh(&bvh).unwrap();
-    let settings = TraceSettings::default();
-    let (color, _) = render_in::<S, 8>(&view, camera, settings, Aov::Color, 32);
-    let (id, _) = render_in::<S, 8>(&view, camera, settings, Aov::Id, 32);
+/// Renders `text` with `scalar` at `size × size` through the BVH (colour
+/// and ID, packets of 8; and, when `widths` is set, also packets of 1 and
+/// 4, asserted bit-identical).
+fn render_scene(name: &str, text: &str, size: u32, scalar: ScalarKind, widths: bool) -> (Vec<Rgb8>, Vec<Rgb8>) {
+    let base = Options { width: Some(size), height: Some(size), scalar, accel: AccelKind::Bvh, threads: Some(2), ..Options::default() };
+    let render = |o: Options| Image::render(text, &o).unwrap_or_else(|e| panic!("{name}: {e}")).pixels;
+    let color = render(base);
+    let id = render(Options { aov: Aov::Id, ..base });
     if widths {
-        let (c1, _) = render_in::<S, 1>(&view, camera, settings, Aov::Color, 16);
-        let (c4, _) = render_in::<S, 4>(&view, camera, settings, Aov::Color, 24);
+        let c1 = render(Options { packet: 1, ..base });
+        let c4 = render(Options { packet: 4, ..base });
         assert!(c1 == color && c4 == color, "{name}: widths 1/4/8 differ");
     }
     (color, id)
@@ -62,24 +52,16 @@ fn render_scene<S: Scalar>(name: &str, text: &str, size: u32, widths: bool) -> (
 
 #[test]
 fn spd_scenes_fixed_matches_f32() {
-    // A big stack for the scenes and trees (built in place, then boxed).
-    std::thread::Builder::new()
-        .stack_size(256 << 20)
-        .spawn(|| {
-            let mut failures = Vec::new();
-            for (k, (name, text, size)) in SCENES.iter().enumerate() {
-                let (cf, idf) = render_scene::<f32>(name, text, *size, false);
-                // Every third scene also checks widths 1/4/8 in fixed point.
-                let (cx, idx) = render_scene::<Fixed>(name, text, *size, k % 3 == 0);
-                let (p, a) = (psnr(&cf, &cx), agreement(&idf, &idx));
-                println!("{name:>10} {size}²: PSNR {p:6.2} dB, ID agreement {:7.3} %", a * 100.0);
-                if !(p >= MIN_PSNR_DB && a >= MIN_ID_AGREEMENT) {
-                    failures.push(format!("{name}: PSNR {p:.2} dB, ID {:.3} %", a * 100.0));
-                }
-            }
-            assert!(failures.is_empty(), "{failures:?}");
-        })
-        .unwrap()
-        .join()
-        .unwrap();
+    let mut failures = Vec::new();
+    for (k, (name, text, size)) in SCENES.iter().enumerate() {
+        let (cf, idf) = render_scene(name, text, *size, ScalarKind::F32, false);
+        // Every third scene also checks widths 1/4/8 in fixed point.
+        let (cx, idx) = render_scene(name, text, *size, ScalarKind::Fixed, k % 3 == 0);
+        let (p, a) = (psnr(&cf, &cx), agreement(&idf, &idx));
+        println!("{name:>10} {size}²: PSNR {p:6.2} dB, ID agreement {:7.3} %", a * 100.0);
+        if !(p >= MIN_PSNR_DB && a >= MIN_ID_AGREEMENT) {
+            failures.push(format!("{name}: PSNR {p:.2} dB, ID {:.3} %", a * 100.0));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
 }

@@ -10,7 +10,9 @@
 mod common;
 use common::*;
 use raypack::prelude::*;
+use raypack::lanes::{Lanes, Mask};
 use raypack::primitives::Shape;
+use raypack::ray::{Ray, RayPacket};
 
 type V = [f64; 3];
 fn d3(v: Vec3<f32>) -> V {
@@ -222,7 +224,7 @@ fn check_kind(seed: u64, k: u32, rays: usize) -> (usize, usize) {
         let o = rng.vec(-6.0, 6.0);
         let aim = target + rng.vec(-1.0, 1.0).scale(spread);
         let Some(ray) = Ray::single(o, aim - o) else { continue };
-        let h = view.closest_hit(&ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), Mask::splat(true));
+        let h = BruteForce.closest_hit(&view, &ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), Mask::splat(true));
         let (po, pd) = (d3(ray.origin.lane(0)), d3(ray.dir.lane(0)));
         let at = |t: f64| add(po, scale(pd, t));
         let scale_of = 1.0 + len(po);
@@ -300,7 +302,7 @@ fn widths_give_identical_hits_and_normals() {
                 dir.set_lane(l, rng.vec(-1.0, 1.0));
             }
             let (p8, m8) = RayPacket::new(org, dir);
-            let h8 = view.closest_hit(&p8, Lanes::zero(), Lanes::splat(f32::MAX), m8);
+            let h8 = tracer.closest_hit(&p8, Lanes::zero(), Lanes::splat(f32::MAX), m8);
             let s8 = tracer.surface(&p8, &h8);
             let mut st = RayStats::default();
             let c8 = tracer.trace(&p8, m8, &mut st);
@@ -321,7 +323,7 @@ fn widths_give_identical_hits_and_normals() {
             for l in 0..8 {
                 let (p1, m1) = RayPacket::<f32, 1>::new(org.lane(l).splat(), dir.lane(l).splat());
                 assert_eq!(m1.get(0), m8.get(l));
-                let h1 = view.closest_hit(&p1, Lanes::zero(), Lanes::splat(f32::MAX), m1);
+                let h1 = tracer.closest_hit(&p1, Lanes::zero(), Lanes::splat(f32::MAX), m1);
                 assert_eq!(h1.mask.get(0), h8.mask.get(l));
                 if !h1.mask.get(0) {
                     continue;

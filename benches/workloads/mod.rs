@@ -5,7 +5,10 @@
 #![allow(dead_code)]
 
 use raypack::dispatch::{Isa, IsaKernel};
+use raypack::lanes::{Lanes, Mask};
 use raypack::prelude::*;
+use raypack::primitives::Shape;
+use raypack::ray::RayPacket;
 use raypack::primitives::Sphere;
 use raypack::scene::Scene;
 
@@ -102,20 +105,22 @@ pub fn kind_scene(kind: &str) -> Box<BenchScene> {
 /// One closest-hit query per packet against a whole scene; returns the
 /// number of lanes that hit (so nothing is optimized away, and widths can be
 /// compared).
-pub struct ScenePass<'v, 'p, const W: usize> {
+pub struct ScenePass<'v, 'p, A, const W: usize> {
     /// The scene.
     pub view: &'v SceneView<'v, f32>,
+    /// What the queries go through (brute force or a tree).
+    pub accel: &'v A,
     /// The packets.
     pub packets: &'p Packets<W>,
 }
 
-impl<const W: usize> IsaKernel for ScenePass<'_, '_, W> {
+impl<A: Accelerator<f32>, const W: usize> IsaKernel for ScenePass<'_, '_, A, W> {
     type Output = u32;
     #[inline(always)]
     fn run(self) -> u32 {
         let mut hits = 0;
         for (ray, m) in self.packets {
-            hits += self.view.closest_hit(ray, Lanes::zero(), Lanes::splat(f32::MAX), *m).mask.count();
+            hits += self.accel.closest_hit(self.view, ray, Lanes::zero(), Lanes::splat(f32::MAX), *m).mask.count();
         }
         hits
     }
@@ -189,12 +194,10 @@ pub fn sphere_pass<const W: usize>(isa: Isa, spheres: &[Sphere<f32>], packets: &
     isa.run(KernelPass { items: spheres, pool: &[], packets })
 }
 
-/// Runs a [`ScenePass`] compiled for `isa`.
+/// Runs a [`ScenePass`] compiled for `isa` (the queries inlined into it).
 #[inline(never)]
-pub fn scene_pass<const W: usize>(isa: Isa, view: &SceneView<'_, f32>, packets: &Packets<W>) -> u32 {
-    // The BVH leaf tests (compiled apart from the inlined path) in `isa` too.
-    let view = isa.view(*view);
-    isa.run(ScenePass { view: &view, packets })
+pub fn scene_pass<A: Accelerator<f32>, const W: usize>(isa: Isa, view: &SceneView<'_, f32>, accel: &A, packets: &Packets<W>) -> u32 {
+    isa.run(ScenePass { view, accel, packets })
 }
 
 /// Runs the bare kernels of a scene's primitives (through the `Shape`
@@ -207,8 +210,8 @@ pub fn shape_pass<const W: usize>(isa: Isa, view: &SceneView<'_, f32>, packets: 
 /// A full render of `renderer` (single thread, one rectangle) compiled for
 /// `isa`; returns the number of rays traced.
 #[inline(never)]
-pub fn render_pass<const W: usize>(isa: Isa, renderer: &Renderer<'_, f32>, img: &mut [Rgb8]) -> u64 {
+pub fn render_pass<A: Accelerator<f32>, const W: usize>(isa: Isa, renderer: &Renderer<'_, f32, A>, img: &mut [Rgb8]) -> u64 {
     let mut st = RayStats::default();
-    raypack::dispatch::render_rect::<f32, 8, W>(isa, renderer, renderer.camera.full_rect(), img, &mut st).unwrap();
+    raypack::dispatch::render_rect::<f32, A, 8, W>(isa, renderer, renderer.camera.full_rect(), img, &mut st).unwrap();
     st.total()
 }

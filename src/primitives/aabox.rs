@@ -1,7 +1,7 @@
 //! Axis-aligned box, by the slab test; the slab code is shared with the
 //! oriented box, which runs it in the box's own frame.
 
-use super::GeometryError;
+use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
@@ -91,7 +91,7 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
 ///
 /// A function rather than a closure so that it is inlined (and compiled for
 /// the instruction set of the caller; see `dispatch`).
-#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
 fn slab_axis<S: Scalar, const W: usize>(o: Lanes<S, W>, d: Lanes<S, W>, lo: S, hi: S) -> (Lanes<S, W>, Lanes<S, W>) {
     let big = Lanes::splat(S::MAX);
     {

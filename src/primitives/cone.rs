@@ -2,7 +2,7 @@
 //! `c` entity), exact: intersected in its own frame and cut by the axial
 //! coordinate, not by an axis-aligned clip box.
 
-use super::GeometryError;
+use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;

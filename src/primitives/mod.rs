@@ -11,171 +11,23 @@
 
 pub mod aabox;
 pub mod cone;
+mod error;
 pub mod obox;
 pub mod plane;
 pub mod polygon;
 pub mod quadric;
+mod shape;
 pub mod sphere;
 
 pub use aabox::AaBox;
 pub use cone::Cone;
+pub use error::GeometryError;
 pub use obox::OrientedBox;
 pub use plane::Plane;
 pub use polygon::Polygon;
 pub use quadric::Quadric;
+pub use shape::{Shape, ShapeKind};
 pub use sphere::Sphere;
-
-use crate::lanes::{Lanes, Mask};
-use crate::ray::{RayPacket, Roots};
-use crate::scalar::Scalar;
-use crate::vec3::Vec3;
-
-/// Why a primitive could not be built.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GeometryError {
-    /// A coordinate or parameter is NaN or infinite.
-    NonFinite,
-    /// A radius (or half-extent, angle, focal length) is zero or negative.
-    NonPositiveRadius,
-    /// An axis, normal or direction has zero length (or two points coincide).
-    ZeroLengthAxis,
-    /// A polygon has fewer than 3 vertices (the count is given).
-    TooFewVertices(u32),
-    /// A polygon's vertex range lies outside the vertex pool.
-    VertexRange,
-    /// A quadric whose coefficients A to I are all zero.
-    DegenerateQuadric,
-}
-
-impl core::fmt::Display for GeometryError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            GeometryError::NonFinite => f.write_str("a number is NaN or infinite"),
-            GeometryError::NonPositiveRadius => f.write_str("a radius or size is zero or negative"),
-            GeometryError::ZeroLengthAxis => f.write_str("an axis, normal or direction has zero length"),
-            GeometryError::TooFewVertices(n) => write!(f, "a polygon needs at least 3 vertices, got {n}"),
-            GeometryError::VertexRange => f.write_str("polygon vertices outside the vertex pool"),
-            GeometryError::DegenerateQuadric => f.write_str("quadric with all of A..I zero"),
-        }
-    }
-}
-
-/// The kinds of primitive.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ShapeKind {
-    /// [`Sphere`].
-    Sphere,
-    /// [`Plane`].
-    Plane,
-    /// [`Polygon`] without vertex normals.
-    Polygon,
-    /// [`Polygon`] with vertex normals (NFF `pp`).
-    Patch,
-    /// [`AaBox`].
-    AaBox,
-    /// [`OrientedBox`].
-    OrientedBox,
-    /// [`Quadric`].
-    Quadric,
-    /// [`Cone`].
-    Cone,
-}
-
-/// One primitive of any kind.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Shape<S> {
-    /// A sphere.
-    Sphere(Sphere<S>),
-    /// An infinite plane.
-    Plane(Plane<S>),
-    /// A polygon or polygon patch (vertices in the scene's pool).
-    Polygon(Polygon<S>),
-    /// An axis-aligned box.
-    AaBox(AaBox<S>),
-    /// An oriented box.
-    OrientedBox(OrientedBox<S>),
-    /// A general (optionally clipped) quadric.
-    Quadric(Quadric<S>),
-    /// A finite open cone or cylinder.
-    Cone(Cone<S>),
-}
-
-impl<S: Scalar> Shape<S> {
-    /// The kind of this primitive.
-    pub fn kind(&self) -> ShapeKind {
-        match self {
-            Shape::Sphere(_) => ShapeKind::Sphere,
-            Shape::Plane(_) => ShapeKind::Plane,
-            Shape::Polygon(p) if p.is_patch() => ShapeKind::Patch,
-            Shape::Polygon(_) => ShapeKind::Polygon,
-            Shape::AaBox(_) => ShapeKind::AaBox,
-            Shape::OrientedBox(_) => ShapeKind::OrientedBox,
-            Shape::Quadric(_) => ShapeKind::Quadric,
-            Shape::Cone(_) => ShapeKind::Cone,
-        }
-    }
-
-    /// Crossings of each active ray with the surface in `(t_min, t_max)`.
-    /// `pool` is the scene's vertex pool (used by polygons).
-    #[inline(always)]
-    pub fn roots<const W: usize>(
-        &self,
-        pool: &[Vec3<S>],
-        ray: &RayPacket<S, W>,
-        t_min: Lanes<S, W>,
-        t_max: Lanes<S, W>,
-        active: Mask<W>,
-    ) -> Roots<S, W> {
-        match self {
-            Shape::Sphere(s) => s.roots(ray, t_min, t_max, active),
-            Shape::Plane(p) => p.roots(ray, t_min, t_max, active),
-            Shape::Polygon(p) => p.roots(pool, ray, t_min, t_max, active),
-            Shape::AaBox(b) => b.roots(ray, t_min, t_max, active),
-            Shape::OrientedBox(b) => b.roots(ray, t_min, t_max, active),
-            Shape::Quadric(q) => q.roots(ray, t_min, t_max, active),
-            Shape::Cone(c) => c.roots(ray, t_min, t_max, active),
-        }
-    }
-
-    /// Outward geometric normal at a surface point (not normalized; may be
-    /// zero at a singular point such as a cone's apex).
-    #[inline]
-    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
-        match self {
-            Shape::Sphere(s) => s.normal(p),
-            Shape::Plane(pl) => pl.normal(p),
-            Shape::Polygon(pg) => pg.normal(),
-            Shape::AaBox(b) => b.normal(p),
-            Shape::OrientedBox(b) => b.normal(p),
-            Shape::Quadric(q) => q.normal(p),
-            Shape::Cone(c) => c.normal(p),
-        }
-    }
-
-    /// Normal used for shading (interpolated on patches; the geometric normal
-    /// elsewhere). Not normalized.
-    #[inline]
-    pub fn shading_normal(&self, pool: &[Vec3<S>], p: Vec3<S>, geometric: Vec3<S>) -> Vec3<S> {
-        match self {
-            Shape::Polygon(pg) if pg.is_patch() => pg.shading_normal(pool, p),
-            _ => geometric,
-        }
-    }
-
-    /// Axis-aligned bounds `(min, max)`, or `None` for unbounded primitives
-    /// (planes and unclipped quadrics).
-    pub fn bounds(&self, pool: &[Vec3<S>]) -> Option<(Vec3<S>, Vec3<S>)> {
-        match self {
-            Shape::Sphere(s) => Some(s.bounds()),
-            Shape::Plane(_) => None,
-            Shape::Polygon(p) => Some(p.bounds(pool)),
-            Shape::AaBox(b) => Some((b.min(), b.max())),
-            Shape::OrientedBox(b) => Some(b.bounds()),
-            Shape::Quadric(q) => q.clip_box(),
-            Shape::Cone(c) => Some(c.bounds()),
-        }
-    }
-}
 
 #[cfg(test)]
 pub(crate) mod test_util {

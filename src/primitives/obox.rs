@@ -1,7 +1,7 @@
 //! Oriented box: centre, half-extents and an orthonormal frame.
 
 use super::aabox::{face_normal, slab_roots};
-use super::GeometryError;
+use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;

@@ -1,6 +1,6 @@
 //! Infinite plane `Ax + By + Cz + D = 0`.
 
-use super::GeometryError;
+use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;

@@ -12,7 +12,7 @@
 //! meshes contain) is kept, so primitive indices stay stable, but never hit.
 
 use super::plane::plane_crossing;
-use super::GeometryError;
+use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;

@@ -1,7 +1,7 @@
 //! General quadric `Ax² + By² + Cz² + Dxy + Exz + Fyz + Gx + Hy + Iz + J = 0`,
 //! the named quadrics built on it, and an optional clip box.
 
-use super::GeometryError;
+use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
@@ -292,7 +292,7 @@ fn from_matrix<S: Scalar>(m: Mat4<S>) -> [S; 10] {
 
 /// Lanes whose point lies in the closed box `[lo, hi]`. A function rather
 /// than a closure so that it is always inlined (see `dispatch`).
-#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
 fn inside_box<S: Scalar, const W: usize>(p: crate::vec3::Vec3xW<S, W>, lo: Vec3<S>, hi: Vec3<S>) -> Mask<W> {
     p.x.ge(Lanes::splat(lo.x))
         & p.x.le(Lanes::splat(hi.x))

@@ -1,6 +1,6 @@
 //! Sphere: centre and radius.
 
-use super::GeometryError;
+use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;

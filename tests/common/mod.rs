@@ -1,8 +1,10 @@
 //! Shared helpers for the integration tests: a seeded RNG and random scenes.
 #![allow(dead_code)]
 
+use raypack::dispatch::Isa;
+use raypack::image::{render_tiles, Tiling};
 use raypack::prelude::*;
-use raypack::primitives::{AaBox, Cone, OrientedBox, Plane, Quadric, Sphere};
+use raypack::primitives::{AaBox, Cone, OrientedBox, Plane, Quadric, Shape, Sphere};
 
 /// SplitMix64: a tiny, seeded, reproducible generator.
 pub struct Rng(pub u64);
@@ -194,35 +196,23 @@ pub fn random_camera_in<S: Scalar>(rng: &mut Rng, w: u32, h: u32) -> Camera<S> {
     Camera::new(cv(eye), cv(rng.vec(-0.5, 0.5)), cv(Vec3::new(0.0, 0.0, 1.0)), rng.range(30.0, 70.0), w, h).unwrap()
 }
 
-/// Renders a whole image with packet width `W`, tile by tile.
+/// Renders a whole image with packet width `W`, tile by tile (tiles of
+/// side `tile`, one thread, the baseline instruction set).
 pub fn render<const W: usize>(scene: &SceneView<'_, f32>, camera: Camera<f32>, settings: TraceSettings<f32>, aov: Aov, tile: u32) -> (Vec<Rgb8>, RayStats) {
     render_in::<f32, W>(scene, camera, settings, aov, tile)
 }
 
 /// [`render`] for any scalar.
 pub fn render_in<S: Scalar, const W: usize>(scene: &SceneView<'_, S>, camera: Camera<S>, settings: TraceSettings<S>, aov: Aov, tile: u32) -> (Vec<Rgb8>, RayStats) {
-    let tracer: Tracer<S> = Tracer::new(*scene, settings).unwrap();
+    render_with(BruteForce, scene, camera, settings, aov, tile, W)
+}
+
+/// [`render_in`] through the accelerator `accel`, with packets of `packet`.
+pub fn render_with<S: Scalar, A: Accelerator<S> + Sync>(accel: A, scene: &SceneView<'_, S>, camera: Camera<S>, settings: TraceSettings<S>, aov: Aov, tile: u32, packet: usize) -> (Vec<Rgb8>, RayStats) {
+    let tracer: Tracer<S, A> = Tracer::with_accelerator(*scene, accel, settings).unwrap();
     let renderer = Renderer { tracer, camera, aov };
-    let (w, h) = (camera.width(), camera.height());
-    let mut img = vec![[0u8; 3]; (w * h) as usize];
-    let mut stats = RayStats::default();
-    let mut buf = vec![[0u8; 3]; (tile * tile) as usize];
-    let mut y = 0;
-    while y < h {
-        let mut x = 0;
-        while x < w {
-            let rect = Rect { x, y, w: tile.min(w - x), h: tile.min(h - y) };
-            renderer.render_rect::<W>(rect, &mut buf, &mut stats).unwrap();
-            for j in 0..rect.h {
-                for i in 0..rect.w {
-                    img[((y + j) * w + x + i) as usize] = buf[(j * rect.w + i) as usize];
-                }
-            }
-            x += tile;
-        }
-        y += tile;
-    }
-    (img, stats)
+    let tiling = Tiling { packet, isa: Isa::Baseline, threads: 1, tile };
+    render_tiles(&renderer, camera.full_rect(), &tiling, &|| {}).unwrap()
 }
 
 /// Every scene file in `tests/scenes/`: the 17 SPD databases and the

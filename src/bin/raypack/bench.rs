@@ -30,14 +30,11 @@
 //! the best time of 1 thread (same isa and packet) by this one's; each is
 //! printed only when that configuration was measured.
 
-use crate::load::{self, Loaded};
-use crate::render::{image_size, make_renderer};
-use crate::tiles::{self, TileScalar, MAX_DEPTH};
 use crate::{AccelArg, Failure, IsaArg, Packet, ScalarArg};
 use raypack::dispatch::Isa;
+use raypack::image::{self, image_size, LoadedScene, Options, MAX_DEPTH};
 use raypack::prelude::*;
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// Version of the output format (first field of the header line).
 const FORMAT: u32 = 1;
@@ -87,11 +84,9 @@ struct Config {
 }
 
 pub fn run(args: &BenchArgs) -> Result<(), Failure> {
-    let accel = args.accel == AccelArg::Bvh;
-    match args.scalar {
-        ScalarArg::F32 => load::with_scene::<f32, _>(&args.scene, accel, &|scene| bench_scene(args, scene, "f32")),
-        ScalarArg::Fixed => load::with_scene::<Fixed, _>(&args.scene, accel, &|scene| bench_scene(args, scene, "fixed")),
-    }
+    let text = crate::read_scene(&args.scene)?;
+    let path = args.scene.display();
+    image::with_scene(&text, args.scalar.kind(), args.accel.kind(), |scene| bench_scene(args, scene)).map_err(|e| Failure(format!("{path}: {e}")))?
 }
 
 /// The CPU's model name (Linux), for the header.
@@ -119,11 +114,13 @@ fn best(v: &[f64]) -> f64 {
     v.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
-fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &str) -> Result<(), Failure> {
+fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure> {
+    let info = *scene.info();
+    let scalar = info.scalar.name();
     let name = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().replace(' ', "_"));
     let (width, height) = match (args.width, args.height) {
         (None, None) => (512, 512),
-        (w, h) => image_size(w, h, scene.info.camera.map_or((1, 1), |c| (c.width, c.height))),
+        (w, h) => image_size(w, h, info.nff.camera.map_or((1, 1), |c| (c.width, c.height))),
     };
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get() as u32);
     let mut threads = args.threads.clone();
@@ -143,7 +140,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
     packets.sort_unstable();
     packets.dedup();
 
-    let accel = match &scene.bvh {
+    let accel = match &info.bvh {
         Some((b, built)) => format!("accel=bvh nodes={} leaves={} depth={} outside={} build_ms={:.3}", b.nodes, b.leaves, b.depth, b.unbounded, built.as_secs_f64() * 1e3),
         None => "accel=none".into(),
     };
@@ -156,24 +153,16 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
     );
     println!(
         "# scene={name} primitives={} lights={} size={width}x{height} scalar={scalar} {accel}",
-        scene.view.primitives().len(),
-        scene.view.lights().len()
+        info.nff.counts.primitives(),
+        info.nff.counts.lights
     );
+    crate::render::warn_degenerate(&args.scene, &info, false);
 
-    // The two renderers: closest hit of primary rays, and the full render.
-    let primary = make_renderer(&args.scene, &scene, (width, height), TraceSettings { mode: Mode::Cast, ..TraceSettings::default() }, Aov::Id, false)?;
-    let whitted = make_renderer(
-        &args.scene,
-        &scene,
-        (width, height),
-        TraceSettings { mode: Mode::Whitted, max_depth: args.depth, ..TraceSettings::default() },
-        Aov::Color,
-        true,
-    )?;
-    let mut pools = Vec::new();
-    for &t in &threads {
-        pools.push((t, tiles::pool(Some(t))?));
-    }
+    // The two measurements: closest hit of primary rays (the ID image), and
+    // the full render.
+    let base = Options { width: Some(width), height: Some(height), scalar: info.scalar, ..Options::default() };
+    let primary = Options { mode: Mode::Cast, aov: Aov::Id, ..base };
+    let whitted = Options { mode: Mode::Whitted, depth: args.depth, aov: Aov::Color, ..base };
 
     // Configurations by the instruction set they really run with (packets
     // narrower than 8 and fixed point run the baseline whatever is asked):
@@ -182,7 +171,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
     for measure in ["primary", "whitted"] {
         for &asked in &isas {
             for &packet in &packets {
-                let isa = S::isa_used(asked, packet);
+                let isa = used_for(info.scalar, asked, packet);
                 for &t in &threads {
                     if !configs.iter().any(|c| c.measure == measure && c.isa == isa && c.packet == packet && c.threads == t) {
                         configs.push(Config { measure, isa, packet, threads: t, times: Vec::new(), stats: RayStats::default() });
@@ -196,12 +185,12 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
     let nothing = || {};
     for _ in 0..args.rounds {
         for c in configs.iter_mut() {
-            let (renderer, slot) = if c.measure == "primary" { (&primary, 0) } else { (&whitted, 1) };
-            let pool = pools.iter().find(|p| p.0 == c.threads).map(|p| &p.1).ok_or_else(|| Failure("no pool".into()))?;
-            let start = Instant::now();
-            let (pixels, stats) = tiles::render_image(renderer, c.packet, c.isa, pool, &nothing)?;
-            c.times.push(start.elapsed().as_secs_f64());
-            c.stats = stats;
+            let (options, slot) = if c.measure == "primary" { (&primary, 0) } else { (&whitted, 1) };
+            let options = Options { packet: c.packet, isa: c.isa, threads: Some(c.threads as usize), ..*options };
+            let img = scene.render(&options, &nothing)?;
+            c.times.push(img.time.as_secs_f64());
+            c.stats = img.stats;
+            let pixels = img.pixels;
             match &reference[slot] {
                 None => reference[slot] = Some(pixels),
                 Some(r) if *r == pixels => {}
@@ -219,7 +208,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
         let b = best(&c.times);
         let mut line = format!(
             "bench scene={name} size={width}x{height} scalar={scalar} accel={} measure={} isa={} packet={} threads={} rays={} best_s={:.9} median_s={:.9} mrays_per_s={:.3}",
-            if scene.bvh.is_some() { "bvh" } else { "none" },
+            if info.bvh.is_some() { "bvh" } else { "none" },
             c.measure,
             c.isa,
             c.packet,
@@ -234,7 +223,7 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
             line += &format!(" lanes_{kind}={lanes:.2}");
         }
         let find = |packet: usize, threads: u32| {
-            let isa = S::isa_used(c.isa, packet);
+            let isa = used_for(info.scalar, c.isa, packet);
             configs.iter().find(|o| o.measure == c.measure && o.isa == isa && o.packet == packet && o.threads == threads)
         };
         if let Some(o) = find(1, c.threads) {
@@ -246,4 +235,13 @@ fn bench_scene<S: TileScalar>(args: &BenchArgs, scene: Loaded<'_, S>, scalar: &s
         println!("{line}");
     }
     Ok(())
+}
+
+/// The instruction set a configuration really runs with (see
+/// [`Isa::used_for`]).
+fn used_for(scalar: image::ScalarKind, isa: Isa, packet: usize) -> Isa {
+    match scalar {
+        image::ScalarKind::F32 => isa.used_for::<f32>(packet),
+        image::ScalarKind::Fixed => isa.used_for::<Fixed>(packet),
+    }
 }

@@ -1,49 +1,49 @@
 //! `raypack info`: what a scene holds.
 
-use crate::load;
 use crate::Failure;
-use raypack::primitives::ShapeKind;
+use raypack::image::{self, AccelKind, ScalarKind};
 use std::path::Path;
 
 pub fn run(path: &Path) -> Result<(), Failure> {
-    let text = load::with_scene::<f32, _>(path, true, &|s| {
-        let c = s.info.counts;
+    let text = crate::read_scene(path)?;
+    let out = image::with_scene(&text, ScalarKind::F32, AccelKind::Bvh, |s| {
+        let info = *s.info();
+        let c = info.nff.counts;
         let mut out = String::new();
         let mut line = |t: String| {
             out.push_str(&t);
             out.push('\n');
         };
         line(format!("scene       {}", path.display()));
-        line(format!("lines       {}", s.info.lines));
+        line(format!("lines       {}", info.nff.lines));
         line(format!("primitives  {}", c.primitives()));
-        for (name, kind, n) in [
-            ("spheres (s)", ShapeKind::Sphere, c.spheres),
-            ("cones (c)", ShapeKind::Cone, c.cones),
-            ("polygons (p)", ShapeKind::Polygon, c.polygons),
-            ("patches (pp)", ShapeKind::Patch, c.patches),
-            ("planes (pl)", ShapeKind::Plane, c.planes),
-            ("boxes (box)", ShapeKind::AaBox, c.boxes),
-            ("oriented boxes (obox)", ShapeKind::OrientedBox, c.oriented_boxes),
-            ("quadrics (q)", ShapeKind::Quadric, c.quadrics),
+        for (name, n) in [
+            ("spheres (s)", c.spheres),
+            ("cones (c)", c.cones),
+            ("polygons (p)", c.polygons),
+            ("patches (pp)", c.patches),
+            ("planes (pl)", c.planes),
+            ("boxes (box)", c.boxes),
+            ("oriented boxes (obox)", c.oriented_boxes),
+            ("quadrics (q)", c.quadrics),
         ] {
-            debug_assert_eq!(s.view.count(kind), n);
             if n > 0 {
                 line(format!("  {name:<22}{n}"));
             }
         }
-        if s.degenerate > 0 {
-            line(format!("  zero-area polygons    {} (never hit)", s.degenerate));
+        if info.degenerate > 0 {
+            line(format!("  zero-area polygons    {} (never hit)", info.degenerate));
         }
         line(format!("vertices    {} pool slots (a patch uses 2 per vertex)", c.vertices));
         line(format!("materials   {}", c.materials));
         line(format!("lights      {}", c.lights));
-        match s.view.bounds() {
-            Some((lo, hi)) => line(format!("bounds      ({}, {}, {}) to ({}, {}, {})", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z)),
+        match s.bounds() {
+            Some((lo, hi)) => line(format!("bounds      ({}, {}, {}) to ({}, {}, {})", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2])),
             None => line("bounds      none (only unbounded primitives)".into()),
         }
-        let b = s.info.background;
+        let b = info.nff.background;
         line(format!("background  {} {} {}", b[0], b[1], b[2]));
-        match s.info.camera {
+        match info.nff.camera {
             Some(cam) => {
                 let v = |a: [f32; 3]| format!("({}, {}, {})", a[0], a[1], a[2]);
                 line(format!("camera      from {} at {} up {}", v(cam.from), v(cam.at), v(cam.up)));
@@ -51,13 +51,14 @@ pub fn run(path: &Path) -> Result<(), Failure> {
             }
             None => line("camera      none (no `v` block)".into()),
         }
-        if let Some((b, built)) = s.bvh {
+        if let Some((b, built)) = info.bvh {
             line(format!("bvh         {} nodes, {} leaves, depth {}, largest leaf {}, {} unbounded primitives, built in {:.2} ms", b.nodes, b.leaves, b.depth, b.max_leaf, b.unbounded, built.as_secs_f64() * 1e3));
         }
-        let (p, v, m, l) = s.capacity;
+        let (p, v, m, l) = info.capacity;
         line(format!("capacity    {p} primitives, {v} vertices, {m} materials, {l} lights"));
-        Ok(out)
-    })?;
-    print!("{text}");
+        out
+    })
+    .map_err(|e| Failure(format!("{}: {e}", path.display())))?;
+    print!("{out}");
     Ok(())
 }

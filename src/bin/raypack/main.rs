@@ -8,12 +8,13 @@
 
 mod bench;
 mod info;
-mod load;
 mod output;
 mod render;
-mod tiles;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use raypack::image::{AccelKind, Options, ScalarKind, MAX_DEPTH};
+use raypack::render::Aov;
+use raypack::trace::Mode;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -87,6 +88,71 @@ enum IsaArg {
     Avx2,
     /// AVX-512 F/VL/BW/DQ.
     Avx512,
+}
+
+impl ScalarArg {
+    /// The library's name for it.
+    fn kind(self) -> ScalarKind {
+        match self {
+            ScalarArg::F32 => ScalarKind::F32,
+            ScalarArg::Fixed => ScalarKind::Fixed,
+        }
+    }
+}
+
+impl AccelArg {
+    /// The library's name for it.
+    fn kind(self) -> AccelKind {
+        match self {
+            AccelArg::Bvh => AccelKind::Bvh,
+            AccelArg::None => AccelKind::BruteForce,
+        }
+    }
+}
+
+impl ModeArg {
+    /// The library's name for it.
+    fn mode(self) -> Mode {
+        match self {
+            ModeArg::Cast => Mode::Cast,
+            ModeArg::Trace => Mode::Whitted,
+        }
+    }
+}
+
+impl AovArg {
+    /// The library's name for it.
+    fn aov(self) -> Aov {
+        match self {
+            AovArg::Color => Aov::Color,
+            AovArg::Depth => Aov::Depth,
+            AovArg::Normal => Aov::Normal,
+            AovArg::Id => Aov::Id,
+        }
+    }
+}
+
+impl RenderArgs {
+    /// The library options these arguments ask for.
+    fn options(&self) -> Result<Options, Failure> {
+        Ok(Options {
+            width: self.width,
+            height: self.height,
+            packet: self.packet.width(),
+            threads: self.threads.map(|t| t as usize),
+            mode: self.mode.mode(),
+            depth: self.depth,
+            aov: self.aov.aov(),
+            accel: self.accel.kind(),
+            scalar: self.scalar.kind(),
+            isa: self.isa.resolve()?,
+        })
+    }
+}
+
+/// Reads a scene file as text, with the path in the error.
+pub fn read_scene(path: &std::path::Path) -> Result<String, Failure> {
+    std::fs::read_to_string(path).map_err(|e| Failure(format!("{}: {e}", path.display())))
 }
 
 impl IsaArg {
@@ -167,7 +233,7 @@ struct RenderArgs {
     #[arg(long, value_enum, default_value = "trace")]
     mode: ModeArg,
     /// Maximum ray depth (segments per path, primary included).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=render::MAX_DEPTH as i64))]
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=MAX_DEPTH as i64))]
     depth: u32,
     /// What to write per pixel.
     #[arg(long, value_enum, default_value = "color")]

@@ -1,56 +1,38 @@
-//! `raypack render`: tiles rendered in parallel (see `tiles.rs`), a
+//! `raypack render`: the library's tile loop ([`raypack::image`]), a
 //! progress bar, a summary.
 
-use crate::load::{self, Loaded};
 use crate::output::PendingImage;
-use crate::tiles::{self, TileScalar, DEPTH};
-use crate::{AccelArg, AovArg, Failure, ModeArg, RenderArgs, ScalarArg};
+use crate::{Failure, RenderArgs};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use raypack::dispatch::Isa;
-use raypack::prelude::*;
+use raypack::image::{self, LoadedScene, TILE};
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-pub use crate::tiles::MAX_DEPTH;
-
-/// A finished render.
-struct Rendered {
-    width: u32,
-    height: u32,
-    pixels: Vec<Rgb8>,
-    stats: RayStats,
-    threads: usize,
-    /// The instruction set the tiles ran with.
-    isa: Isa,
-    time: Duration,
-    /// The BVH used (and its build time), `None` for brute force.
-    accel: Option<(BvhStats, Duration)>,
-}
-
 pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     // Fails now (before rendering) on a bad extension or an unwritable place.
-    let image = PendingImage::create(&args.output)?;
-    let accel = args.accel == AccelArg::Bvh;
-    let r = match args.scalar {
-        ScalarArg::F32 => load::with_scene::<f32, _>(&args.scene, accel, &|scene| render_scene(args, scene))?,
-        ScalarArg::Fixed => load::with_scene::<Fixed, _>(&args.scene, accel, &|scene| render_scene(args, scene))?,
-    };
-    image.finish(r.width, r.height, &r.pixels)?;
+    let pending = PendingImage::create(&args.output)?;
+    let text = crate::read_scene(&args.scene)?;
+    let options = args.options()?;
+    let path = args.scene.display();
+    let (img, info) = image::with_scene(&text, options.scalar, options.accel, |scene| render_scene(args, &options, scene))
+        .map_err(|e| Failure(format!("{path}: {e}")))?;
+    let img = img.map_err(|e| Failure(format!("{path}: {e}")))?;
+    pending.finish(img.width, img.height, &img.pixels)?;
     if !args.quiet {
-        let s = &r.stats;
-        let secs = r.time.as_secs_f64();
+        let s = &img.stats;
+        let secs = img.time.as_secs_f64();
         let rate = if secs > 0.0 { s.total() as f64 / secs } else { 0.0 };
         eprintln!(
             "raypack: {}: {}x{}, {:.3} s on {} thread{}, packet {}, isa {}; rays: {} primary, {} shadow, {} reflected, {} refracted; {:.2} M rays/s",
             args.output.display(),
-            r.width,
-            r.height,
+            img.width,
+            img.height,
             secs,
-            r.threads,
-            if r.threads == 1 { "" } else { "s" },
-            args.packet.width(),
-            r.isa,
+            img.threads,
+            if img.threads == 1 { "" } else { "s" },
+            options.packet,
+            img.isa,
             s.primary,
             s.shadow,
             s.reflected,
@@ -60,13 +42,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         let l = s.lanes_per_packet();
         eprintln!(
             "raypack: active lanes per packet of {}: {:.2} primary, {:.2} shadow, {:.2} reflected, {:.2} refracted",
-            args.packet.width(),
-            l[0],
-            l[1],
-            l[2],
-            l[3]
+            options.packet, l[0], l[1], l[2], l[3]
         );
-        match r.accel {
+        match info.bvh {
             Some((b, built)) => eprintln!(
                 "raypack: bvh: {} nodes ({} leaves, depth {}), {} primitives outside the tree, built in {:.2} ms",
                 b.nodes,
@@ -81,71 +59,27 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Image size: the file's resolution, or the overrides; one override alone
-/// keeps the file's aspect ratio.
-pub fn image_size(width: Option<u32>, height: Option<u32>, file: (u32, u32)) -> (u32, u32) {
-    let scaled = |a: u32, num: u32, den: u32| ((a as u64 * num as u64 + den as u64 / 2) / den as u64).clamp(1, 65535) as u32;
-    match (width, height) {
-        (Some(w), Some(h)) => (w, h),
-        (Some(w), None) => (w, scaled(w, file.1, file.0)),
-        (None, Some(h)) => (scaled(h, file.0, file.1), h),
-        (None, None) => file,
-    }
-}
-
-/// The scene's renderer at `width × height` (the file's camera), after the
-/// range check of fixed point; warns about zero-area polygons unless quiet.
-pub fn make_renderer<'a, S: Scalar>(
-    path: &std::path::Path,
-    scene: &Loaded<'a, S>,
-    size: (u32, u32),
-    settings: TraceSettings<S>,
-    aov: Aov,
-    quiet: bool,
-) -> Result<Renderer<'a, S, DEPTH>, Failure> {
-    let path = path.display();
-    let cam = scene.info.camera.ok_or_else(|| Failure(format!("{path}: the scene has no `v` block (camera)")))?;
-    let camera = cam.camera::<S>(size.0, size.1).map_err(|e| Failure(format!("{path}: {e}")))?;
-    // Fixed point: the whole scene must fit its range (a no-op for f32).
-    check_scene(&scene.view, &camera).map_err(|e| Failure(format!("{path}: {e}")))?;
-    let tracer: Tracer<'_, S, DEPTH> = Tracer::new(scene.view, settings)?;
-    let mut renderer = Renderer::new(tracer, camera);
-    renderer.aov = aov;
-    if scene.degenerate > 0 && !quiet {
+/// Warns about zero-area polygons unless quiet.
+pub fn warn_degenerate(args_scene: &std::path::Path, info: &image::SceneInfo, quiet: bool) {
+    if info.degenerate > 0 && !quiet {
         eprintln!(
-            "raypack: warning: {path}: {} zero-area polygon{} (kept so primitive ids follow the file, never hit)",
-            scene.degenerate,
-            if scene.degenerate == 1 { "" } else { "s" }
+            "raypack: warning: {}: {} zero-area polygon{} (kept so primitive ids follow the file, never hit)",
+            args_scene.display(),
+            info.degenerate,
+            if info.degenerate == 1 { "" } else { "s" }
         );
     }
-    Ok(renderer)
 }
 
-fn render_scene<S: TileScalar>(args: &RenderArgs, scene: Loaded<'_, S>) -> Result<Rendered, Failure> {
-    let file = scene.info.camera.map_or((1, 1), |c| (c.width, c.height));
-    let (width, height) = image_size(args.width, args.height, file);
-    let settings = TraceSettings {
-        mode: match args.mode {
-            ModeArg::Cast => Mode::Cast,
-            ModeArg::Trace => Mode::Whitted,
-        },
-        max_depth: args.depth,
-        ..TraceSettings::default()
-    };
-    let aov = match args.aov {
-        AovArg::Color => Aov::Color,
-        AovArg::Depth => Aov::Depth,
-        AovArg::Normal => Aov::Normal,
-        AovArg::Id => Aov::Id,
-    };
-    let renderer = make_renderer(&args.scene, &scene, (width, height), settings, aov, args.quiet)?;
-    let isa = args.isa.resolve()?;
-    let pool = tiles::pool(args.threads)?;
-    let count = tiles::tiles(width, height).len();
+fn render_scene(args: &RenderArgs, options: &image::Options, scene: &dyn LoadedScene) -> (Result<image::Image, image::Error>, image::SceneInfo) {
+    let info = *scene.info();
+    warn_degenerate(&args.scene, &info, args.quiet);
+    let size = info.nff.camera.map_or((1, 1), |c| image::image_size(options.width, options.height, (c.width, c.height)));
+    let count = size.0.div_ceil(TILE) as u64 * size.1.div_ceil(TILE) as u64;
 
     // Progress on stderr, shown only once a render has run for a second,
     // and only to a terminal.
-    let bar = ProgressBar::with_draw_target(Some(count as u64), ProgressDrawTarget::hidden());
+    let bar = ProgressBar::with_draw_target(Some(count), ProgressDrawTarget::hidden());
     if let Ok(style) = ProgressStyle::with_template("{spinner} {elapsed_precise} [{bar:40}] {percent:>3}% ({eta} left)") {
         bar.set_style(style.progress_chars("=> "));
     }
@@ -158,8 +92,7 @@ fn render_scene<S: TileScalar>(args: &RenderArgs, scene: Loaded<'_, S>) -> Resul
         }
         bar.inc(1);
     };
-    let (pixels, stats) = tiles::render_image(&renderer, args.packet.width(), isa, &pool, &done)?;
-    let time = start.elapsed();
+    let img = scene.render(options, &done);
     bar.finish_and_clear();
-    Ok(Rendered { width, height, pixels, stats, threads: pool.current_num_threads(), isa: S::isa_used(isa, args.packet.width()), time, accel: scene.bvh })
+    (img, info)
 }

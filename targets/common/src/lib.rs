@@ -24,7 +24,7 @@ use raypack::demo::{build_demo_scene, demo_camera};
 use raypack::output::ImageChecksums;
 use raypack::render::{BufferTooSmall, Renderer, Rgb8};
 use raypack::scene::SceneError;
-use raypack::trace::{DepthError, TraceSettings, Tracer};
+use raypack::trace::{TraceError, TraceSettings, Tracer};
 use raypack::Scalar;
 
 pub use raypack::demo::DemoScene;
@@ -84,8 +84,8 @@ pub enum Failure {
     Scene(SceneError),
     /// The camera was rejected.
     Camera(CameraError),
-    /// The tracer's depth was rejected.
-    Depth(DepthError),
+    /// The tracer was rejected (depth).
+    Trace(TraceError),
     /// The band buffer holds less than one row.
     Buffer(BufferTooSmall),
 }
@@ -96,7 +96,7 @@ impl Failure {
         match self {
             Failure::Scene(_) => "scene",
             Failure::Camera(_) => "camera",
-            Failure::Depth(_) => "depth",
+            Failure::Trace(_) => "tracer",
             Failure::Buffer(_) => "band buffer",
         }
     }
@@ -109,7 +109,7 @@ impl Failure {
 pub fn render_demo<S: Scalar, const W: usize>(scene: &mut DemoScene<S>, band: &mut [Rgb8]) -> Result<ImageChecksums, Failure> {
     build_demo_scene(scene).map_err(Failure::Scene)?;
     let camera = demo_camera::<S>(IMAGE_WIDTH, IMAGE_HEIGHT).map_err(Failure::Camera)?;
-    let tracer: Tracer<'_, S> = Tracer::new(scene.view(), TraceSettings::default()).map_err(Failure::Depth)?;
+    let tracer: Tracer<'_, S> = Tracer::new(scene.view(), TraceSettings::default()).map_err(Failure::Trace)?;
     let renderer = Renderer::new(tracer, camera);
     renderer.checksums::<W>(band).map_err(Failure::Buffer)
 }

@@ -1,5 +1,5 @@
 //! Packet traversal: closest hit and shadow transmittance, bit-identical to
-//! the brute-force loops of [`SceneView`].
+//! [`BruteForce`](crate::query::BruteForce).
 //!
 //! Why the answers cannot differ:
 //! - A node is skipped only when no lane's ray segment meets its padded box,
@@ -21,11 +21,14 @@
 //!   transmissive primitives than the record holds, the packet falls back to
 //!   the brute-force loop.
 
-use super::{BvhNode, BvhView, MAX_DEPTH};
+use super::node::{BvhNode, MAX_DEPTH};
+use super::BvhView;
 use crate::lanes::{Lanes, Mask};
+use crate::query::accelerator::{Accelerator, Hit, SceneMismatch};
+use crate::query::brute;
 use crate::ray::RayPacket;
 use crate::scalar::Scalar;
-use crate::scene::{Hit, SceneView};
+use crate::scene::SceneView;
 use crate::vec3::Vec3xW;
 
 /// Transmissive crossings a shadow query records before falling back.
@@ -42,7 +45,7 @@ struct SlabRays<S, const W: usize> {
 }
 
 impl<S: Scalar, const W: usize> SlabRays<S, W> {
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn new(ray: &RayPacket<S, W>, active: Mask<W>) -> Self {
         // A zero direction component would give 0·∞ = NaN at a slab plane
         // through the origin; replace |d| < 2⁻⁶⁰ by ±2⁻⁶⁰, which moves the
@@ -60,7 +63,7 @@ impl<S: Scalar, const W: usize> SlabRays<S, W> {
     }
 
     /// Lanes of `active` whose segment `[t_min, t_far]` meets the box.
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn hits(&self, node: &BvhNode<S>, t_min: Lanes<S, W>, t_far: Lanes<S, W>, active: Mask<W>) -> Mask<W> {
         let x0 = (Lanes::splat(node.min.x) - self.origin.x) * self.inv_dir.x;
         let x1 = (Lanes::splat(node.max.x) - self.origin.x) * self.inv_dir.x;
@@ -77,7 +80,7 @@ impl<S: Scalar, const W: usize> SlabRays<S, W> {
 /// `1/d` with `|d| < 2⁻⁶⁰` replaced by `±2⁻⁶⁰` (see [`SlabRays::new`]).
 /// (A function, not a closure: closures are not `inline(always)`, and
 /// code left out of line is compiled for the baseline instruction set only.)
-#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
 fn guarded_recip<S: Scalar, const W: usize>(d: Lanes<S, W>) -> Lanes<S, W> {
     let tiny = Lanes::splat(S::from_f32(8.673617e-19));
     let small = d.abs().lt(tiny);
@@ -87,7 +90,7 @@ fn guarded_recip<S: Scalar, const W: usize>(d: Lanes<S, W>) -> Lanes<S, W> {
 
 /// `t` a little beyond `best` where `found` (so that roots equal to `best`
 /// come back), `best` elsewhere.
-#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
 fn tie_limit<S: Scalar, const W: usize>(best: Lanes<S, W>, found: Mask<W>) -> Lanes<S, W> {
     // best·(1 + 2⁻²²) is at least two ulps above a normal `best`; the
     // smallest normal covers subnormal ones.
@@ -97,7 +100,7 @@ fn tie_limit<S: Scalar, const W: usize>(best: Lanes<S, W>, found: Mask<W>) -> La
 }
 
 /// Lanes where `k` is below the current best index.
-#[cfg_attr(not(debug_assertions), inline(always))]
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
 fn index_below<const W: usize>(k: u32, best: &[u32; W]) -> Mask<W> {
     let mut m = [false; W];
     for i in 0..W {
@@ -109,67 +112,77 @@ fn index_below<const W: usize>(k: u32, best: &[u32; W]) -> Mask<W> {
 /// What a descent does at the leaves: the one tree walk ([`walk`]) serves
 /// closest-hit and shadow queries through this trait. (A trait with
 /// `inline(always)` methods rather than closures: closures cannot be marked
-/// `inline(always)`, and code left out of line is compiled for the baseline
-/// instruction set only, not for the dispatched AVX2/AVX-512 copies.)
-pub(super) trait LeafVisitor<S, const W: usize> {
+/// `inline(always)`, and the instruction-set dispatcher compiles only what
+/// is inlined into its entry points for AVX2/AVX-512.)
+trait LeafVisitor<S, const W: usize> {
     /// The far end of the segments still of interest, the lanes still
     /// live, and whether to go on at all.
     fn state(&self) -> (Lanes<S, W>, Mask<W>, bool);
-    /// Tests primitives `ids` for the lanes `m` (inlined where it is called:
-    /// the per-instruction-set copies of `super::isa` call this).
-    fn leaf_inlined(&mut self, ids: &[u32], m: Mask<W>);
-    /// [`LeafVisitor::leaf_inlined`] as a function of its own: the plain
-    /// build's copy, which the default [`LeafIsa`](super::isa::LeafIsa) calls.
-    /// Not forced inline: inlined at its call sites into every dispatched
-    /// copy of the render path, it made release builds several times slower
-    /// (and, on a Cortex-M0, overflowed the flash).
-    #[cfg_attr(not(any(target_arch = "x86_64", target_arch = "x86")), inline(never))]
-    fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
-        self.leaf_inlined(ids, m)
-    }
+    /// Tests primitives `ids` for the lanes `m`. [`walk`] has one call site
+    /// for it, so its kernels are compiled once per query. Forced inline on
+    /// x86 (the dispatcher's copies need it); a function of its own
+    /// elsewhere, where every byte of flash counts.
+    fn leaf(&mut self, ids: &[u32], m: Mask<W>);
 }
 
-/// Visits the leaves whose boxes some lane of the visitor's live lanes
-/// reaches, nearest child first; the visitor's state is re-read at every
-/// node so that closer hits prune the rest and a finished query stops.
-#[cfg_attr(not(debug_assertions), inline(always))]
-fn walk<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(bvh: &BvhView<'_, S>, slab: &SlabRays<S, W>, t_min: Lanes<S, W>, visitor: &mut V) {
-    if bvh.nodes.is_empty() {
-        return;
-    }
+/// Visits the primitives outside the tree (for the lanes `outside`), then
+/// the leaves whose boxes some lane of the visitor's live lanes reaches,
+/// nearest child first. The visitor's state is re-read at every node so
+/// that closer hits prune the rest and a finished query stops.
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+fn walk<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(
+    bvh: &BvhView<'_, S>,
+    slab: &SlabRays<S, W>,
+    t_min: Lanes<S, W>,
+    outside: Mask<W>,
+    visitor: &mut V,
+) {
     // The builder bounds the depth by MAX_DEPTH, and each level leaves at
     // most one sibling on the stack.
     let mut stack = [0u32; MAX_DEPTH + 1];
     let mut sp = 0usize;
-    let mut node = 0u32;
+    // The next node to visit (the root first, if the tree has nodes) and the
+    // leaf to test before it (the primitives outside the tree first): one
+    // call site for the leaf tests, so they are compiled once.
+    let mut next = if bvh.nodes.is_empty() { None } else { Some(0u32) };
+    let (mut leaf, mut leaf_mask) = (bvh.unbounded(), outside);
     loop {
+        if !leaf.is_empty() {
+            visitor.leaf(leaf, leaf_mask);
+            leaf = &[];
+        }
         let (t_far, live, go_on) = visitor.state();
         if !go_on {
             return;
         }
-        if let Some(n) = bvh.nodes.get(node as usize) {
+        let Some(index) = next else { return };
+        if let Some(n) = bvh.nodes.get(index as usize) {
             let m = slab.hits(n, t_min, t_far, live);
             if m.any() {
                 if n.is_leaf() {
-                    bvh.leaf_isa.leaf(visitor, bvh.leaf_primitives(n), m);
+                    leaf = bvh.leaf_primitives(n);
+                    leaf_mask = m;
                 } else if let Some(slot) = stack.get_mut(sp) {
                     let first = n.link();
                     let (near, far) = if slab.dir_neg.get(n.axis()).copied().unwrap_or(false) { (first + 1, first) } else { (first, first + 1) };
                     *slot = far;
                     sp += 1;
-                    node = near;
+                    next = Some(near);
                     continue;
                 }
             }
         }
-        if sp == 0 {
+        // Pop the next sibling (`get`, not indexing: the render path has no
+        // panic path); with none left, the last leaf found is still tested.
+        next = match sp.checked_sub(1) {
+            Some(top) => {
+                sp = top;
+                stack.get(top).copied()
+            }
+            None => None,
+        };
+        if next.is_none() && leaf.is_empty() {
             return;
-        }
-        sp -= 1;
-        // (`get`, not indexing: the render path has no panic path.)
-        match stack.get(sp) {
-            Some(&next) => node = next,
-            None => return,
         }
     }
 }
@@ -187,13 +200,14 @@ struct ClosestHit<'q, 'a, S, const W: usize> {
 }
 
 impl<S: Scalar, const W: usize> LeafVisitor<S, W> for ClosestHit<'_, '_, S, W> {
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn state(&self) -> (Lanes<S, W>, Mask<W>, bool) {
         (self.best_t, self.active, true)
     }
 
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    fn leaf_inlined(&mut self, ids: &[u32], m: Mask<W>) {
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    #[cfg_attr(not(any(target_arch = "x86", target_arch = "x86_64")), inline(never))]
+    fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
         let prims = self.scene.primitives();
         let verts = self.scene.vertices();
         for &k in ids {
@@ -228,16 +242,16 @@ struct Shadow<'q, 'a, S, const W: usize> {
 }
 
 impl<S: Scalar, const W: usize> LeafVisitor<S, W> for Shadow<'_, '_, S, W> {
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn state(&self) -> (Lanes<S, W>, Mask<W>, bool) {
         (self.t_max, self.live, self.live.any() && !self.overflow)
     }
 
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    fn leaf_inlined(&mut self, ids: &[u32], m: Mask<W>) {
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    #[cfg_attr(not(any(target_arch = "x86", target_arch = "x86_64")), inline(never))]
+    fn leaf(&mut self, ids: &[u32], m: Mask<W>) {
         let prims = self.scene.primitives();
         let verts = self.scene.vertices();
-        let materials = self.scene.materials();
         for &k in ids {
             // Only the lanes still live.
             let m = m & self.live;
@@ -249,7 +263,7 @@ impl<S: Scalar, const W: usize> LeafVisitor<S, W> for Shadow<'_, '_, S, W> {
             if r.hit0.none() {
                 continue;
             }
-            let kt = materials.get(p.material as usize).map(|m| m.kt).unwrap_or(S::ZERO);
+            let kt = self.scene.kt_of_material(p.material);
             if kt == S::ZERO {
                 // Opaque: exactly 0 whatever else these lanes cross.
                 self.live = self.live.and_not(r.hit0);
@@ -264,12 +278,20 @@ impl<S: Scalar, const W: usize> LeafVisitor<S, W> for Shadow<'_, '_, S, W> {
     }
 }
 
-impl<'a, S: Scalar> BvhView<'a, S> {
-    /// [`SceneView::closest_hit`] through the tree.
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    pub(crate) fn closest_hit<const W: usize>(
+impl<S: Scalar> Accelerator<S> for BvhView<'_, S> {
+    fn check(&self, scene: &SceneView<'_, S>) -> Result<(), SceneMismatch> {
+        let (built_for, scene_has) = (self.primitive_count(), scene.primitives().len());
+        if built_for == scene_has {
+            Ok(())
+        } else {
+            Err(SceneMismatch { built_for, scene_has })
+        }
+    }
+
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn closest_hit<const W: usize>(
         &self,
-        scene: &SceneView<'a, S>,
+        scene: &SceneView<'_, S>,
         ray: &RayPacket<S, W>,
         t_min: Lanes<S, W>,
         t_max: Lanes<S, W>,
@@ -278,18 +300,16 @@ impl<'a, S: Scalar> BvhView<'a, S> {
         let mut q = ClosestHit { scene, ray, t_min, active, best_t: t_max, best_id: [u32::MAX; W], found: Mask::splat(false) };
         if active.any() {
             // Primitives outside the tree first, then the tree.
-            self.leaf_isa.leaf(&mut q, self.unbounded(), active);
             let slab = SlabRays::new(ray, active);
-            walk(self, &slab, t_min, &mut q);
+            walk(self, &slab, t_min, active, &mut q);
         }
         Hit { t: q.best_t, prim: q.best_id, mask: q.found }
     }
 
-    /// [`SceneView::transmittance`] through the tree.
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    pub(crate) fn transmittance<const W: usize>(
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn transmittance<const W: usize>(
         &self,
-        scene: &SceneView<'a, S>,
+        scene: &SceneView<'_, S>,
         ray: &RayPacket<S, W>,
         t_min: Lanes<S, W>,
         t_max: Lanes<S, W>,
@@ -309,17 +329,15 @@ impl<'a, S: Scalar> BvhView<'a, S> {
             recorded: 0,
             overflow: false,
         };
-        self.leaf_isa.leaf(&mut q, self.unbounded(), active);
-        if q.live.any() && !q.overflow {
-            let slab = SlabRays::new(ray, active);
-            walk(self, &slab, t_min, &mut q);
-        }
+        // Primitives outside the tree first, then the tree.
+        let slab = SlabRays::new(ray, active);
+        walk(self, &slab, t_min, active, &mut q);
         let live = q.live;
         if live.none() {
             return zero;
         }
         if q.overflow {
-            return scene.transmittance_brute_force(ray, t_min, t_max, active);
+            return brute::transmittance(scene, ray, t_min, t_max, active);
         }
         // Apply the factors in primitive order, as brute force does.
         // (Checked slicing and access: the render path has no panic path.)
@@ -335,14 +353,9 @@ impl<'a, S: Scalar> BvhView<'a, S> {
             }
         }
         let prims = scene.primitives();
-        let materials = scene.materials();
         let mut trans = Lanes::select(live, Lanes::splat(S::ONE), zero);
         for &(k, hit0, hit1) in records.iter() {
-            let kt = prims
-                .get(k as usize)
-                .and_then(|p| materials.get(p.material as usize))
-                .map(|m| m.kt)
-                .unwrap_or(S::ZERO);
+            let kt = prims.get(k as usize).map_or(S::ZERO, |p| scene.kt_of_material(p.material));
             trans = Lanes::select(hit0, trans * kt, trans);
             trans = Lanes::select(hit1, trans * kt, trans);
         }

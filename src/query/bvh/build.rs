@@ -4,7 +4,7 @@
 //! order, so every target builds the same tree. Ties in cost go to the lower
 //! axis and then the lower bin; leaves list their primitives in index order.
 
-use super::{BvhNode, BvhStats, MAX_DEPTH};
+use super::node::{BvhNode, BvhStats, MAX_DEPTH};
 use crate::scalar::Scalar;
 use crate::scene::SceneView;
 use crate::vec3::Vec3;

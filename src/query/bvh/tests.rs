@@ -5,6 +5,7 @@
 extern crate std;
 use super::*;
 use crate::lanes::{Lanes, Mask};
+use crate::query::{Accelerator, BruteForce, SceneMismatch};
 use crate::ray::{Ray, RayPacket};
 use crate::scene::{Material, Scene};
 use crate::vec3::Vec3;
@@ -115,7 +116,7 @@ fn check_structure<const N: usize>(scene: &SceneView<'_, f32>, bvh: &Bvh<f32, N>
 
 /// Random rays from inside and outside the scene, compared lane by lane
 /// with brute force at widths 1, 4 and 8.
-fn compare_queries(scene: &SceneView<'_, f32>, tree_view: &SceneView<'_, f32>, seed: u64, rays: usize) -> usize {
+fn compare_queries(scene: &SceneView<'_, f32>, tree_view: &BvhView<'_, f32>, seed: u64, rays: usize) -> usize {
     let mut rng = Rng(seed);
     let mut hits = 0;
     for _ in 0..rays / 8 {
@@ -146,10 +147,11 @@ fn compare_queries(scene: &SceneView<'_, f32>, tree_view: &SceneView<'_, f32>, s
     hits
 }
 
-fn check<const W: usize>(brute: &SceneView<'_, f32>, tree: &SceneView<'_, f32>, ray: &RayPacket<f32, W>, active: Mask<W>, far: f32, hits: &mut usize) {
+fn check<const W: usize>(scene: &SceneView<'_, f32>, tree: &BvhView<'_, f32>, ray: &RayPacket<f32, W>, active: Mask<W>, far: f32, hits: &mut usize) {
     let zero = Lanes::splat(0.0);
-    let a = brute.closest_hit_brute_force(ray, zero, Lanes::splat(f32::MAX), active);
-    let b = tree.closest_hit(ray, zero, Lanes::splat(f32::MAX), active);
+    assert_eq!(tree.check(scene), Ok(()));
+    let a = BruteForce.closest_hit(scene, ray, zero, Lanes::splat(f32::MAX), active);
+    let b = tree.closest_hit(scene, ray, zero, Lanes::splat(f32::MAX), active);
     assert_eq!(a.mask, b.mask);
     for l in 0..W {
         if a.mask.get(l) {
@@ -157,8 +159,8 @@ fn check<const W: usize>(brute: &SceneView<'_, f32>, tree: &SceneView<'_, f32>, 
             assert_eq!((a.prim[l], a.t.0[l].to_bits()), (b.prim[l], b.t.0[l].to_bits()), "lane {l}");
         }
     }
-    let ta = brute.transmittance_brute_force(ray, zero, Lanes::splat(far), active);
-    let tb = tree.transmittance(ray, zero, Lanes::splat(far), active);
+    let ta = BruteForce.transmittance(scene, ray, zero, Lanes::splat(far), active);
+    let tb = tree.transmittance(scene, ray, zero, Lanes::splat(far), active);
     for l in 0..W {
         assert_eq!(ta.0[l].to_bits(), tb.0[l].to_bits(), "transmittance lane {l}");
     }
@@ -192,8 +194,7 @@ fn queries_match_brute_force_bit_for_bit() {
         let mut bvh: Bvh<f32, 256> = Bvh::new();
         for settings in [BuildSettings::default(), BuildSettings { max_leaf: 1, ..BuildSettings::default() }] {
             bvh.build_with(&scene.view(), &settings).unwrap();
-            let tree = scene.view().with_bvh(&bvh).unwrap();
-            total += compare_queries(&scene.view(), &tree, seed, 400);
+            total += compare_queries(&scene.view(), &bvh.view(), seed, 400);
         }
     }
     // The comparison would be vacuous if nothing were hit.
@@ -218,7 +219,7 @@ fn depth_is_bounded_and_deep_leaves_still_answer() {
     assert_eq!(stats.depth, 12, "{stats:?}");
     assert!(stats.max_leaf > 4, "the depth limit made a big leaf: {stats:?}");
     check_structure(&s.view(), &bvh);
-    let tree = s.view().with_bvh(&bvh).unwrap();
+    let tree = bvh.view();
     let mut hits = 0;
     for i in 0..90 {
         let x = 2.5f32.powi(i);
@@ -249,13 +250,12 @@ fn equal_distance_goes_to_the_lower_index_across_leaves() {
         tree.nodes().iter().position(|n| n.is_leaf() && tree.leaf_primitives(n).contains(&k))
     };
     assert_ne!(leaf_of(0), leaf_of(31), "the two boxes must be in different leaves");
-    let view = s.view().with_bvh(&bvh).unwrap();
     let ray = Ray::single(Vec3::new(-5.0, 0.5, 0.5), Vec3::new(1.0, 0.0, 0.0)).unwrap();
     let zero = Lanes::splat(0.0);
     // The tie is real: each box alone gives the same t.
     let only = |k: usize| s.view().primitives()[k].shape.roots(&[], &ray, zero, Lanes::splat(f32::MAX), Mask::splat(true)).t0.0[0];
     assert_eq!(only(0).to_bits(), only(31).to_bits());
-    let h = view.closest_hit(&ray, zero, Lanes::splat(f32::MAX), Mask::splat(true));
+    let h = tree.closest_hit(&s.view(), &ray, zero, Lanes::splat(f32::MAX), Mask::splat(true));
     assert_eq!(h.prim[0], 0);
     assert_eq!(h.t.0[0], 5.0);
 }
@@ -275,13 +275,13 @@ fn many_transmissive_crossings_fall_back_exactly() {
     }
     let mut bvh: Bvh<f32, 64> = Bvh::new();
     bvh.build(&s.view()).unwrap();
-    let view = s.view().with_bvh(&bvh).unwrap();
+    let tree = bvh.view();
     let mut hits = 0;
     for far in [5.0f32, 20.0, 50.0, 70.0, 100.0] {
         let ray = Ray::single(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)).unwrap();
-        check::<1>(&s.view(), &view, &ray, Mask::splat(true), far, &mut hits);
+        check::<1>(&s.view(), &tree, &ray, Mask::splat(true), far, &mut hits);
     }
-    let t = view.transmittance(&Ray::single(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)).unwrap(), Lanes::splat(0.0), Lanes::splat(100.0), Mask::splat(true));
+    let t = tree.transmittance(&s.view(), &Ray::single(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)).unwrap(), Lanes::splat(0.0), Lanes::splat(100.0), Mask::splat(true));
     assert!(t.0[0] > 0.0 && t.0[0] < 0.1, "{:?}", t.0);
 }
 
@@ -289,13 +289,17 @@ fn many_transmissive_crossings_fall_back_exactly() {
 fn capacity_and_mismatch_are_errors() {
     let scene = scattered(7, 3);
     let mut small: Bvh<f32, 2> = Bvh::new();
-    assert_eq!(small.build(&scene.view()), Err(BvhError::Capacity { capacity: 2, needed: 3 }));
+    assert_eq!(small.build(&scene.view()), Err(BvhError { capacity: 2, needed: 3 }));
     // The failed build leaves an empty tree, which does not fit the scene.
-    assert_eq!(scene.view().with_bvh(&small).err(), Some(BvhError::SceneMismatch { built_for: 0, view_has: 3 }));
+    assert_eq!(small.view().check(&scene.view()), Err(SceneMismatch { built_for: 0, scene_has: 3 }));
     let other = scattered(8, 2);
     small.build(&other.view()).unwrap();
-    assert!(scene.view().with_bvh(&small).is_err());
-    assert!(other.view().with_bvh(&small).is_ok());
+    assert!(small.view().check(&scene.view()).is_err());
+    assert!(small.view().check(&other.view()).is_ok());
+    // A tracer refuses the pairing.
+    let settings = crate::trace::TraceSettings::default();
+    let e = crate::trace::Tracer::<f32, _>::with_accelerator(scene.view(), small.view(), settings).err();
+    assert_eq!(e, Some(crate::trace::TraceError::Accelerator(SceneMismatch { built_for: 2, scene_has: 3 })));
 }
 
 #[test]
@@ -309,9 +313,8 @@ fn empty_and_unbounded_only_scenes() {
     s.add_plane(0.0, 1.0, 0.0, -2.0, m).unwrap();
     let stats = bvh.build(&s.view()).unwrap();
     assert_eq!((stats.nodes, stats.unbounded), (0, 2));
-    let view = s.view().with_bvh(&bvh).unwrap();
     let ray = Ray::single(Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.0, -1.0, 0.0)).unwrap();
-    let h = view.closest_hit(&ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), Mask::splat(true));
+    let h = bvh.view().closest_hit(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), Mask::splat(true));
     assert_eq!((h.prim[0], h.t.0[0]), (1, 3.0));
 }
 

@@ -1,0 +1,591 @@
+//! From NFF text to pixels in one call (`std`): the entry point for Rust
+//! programs, and what the `raypack` command line is built on.
+//!
+//! ```
+//! use raypack::image::{Image, Options};
+//!
+//! let scene = "v\nfrom 0 -5 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 1\nresolution 64 48\n\
+//!              l 2 -4 3\nf 1 0.2 0.2 1 0 0 0 0\ns 0 0 0 1\n";
+//! let image = Image::render(scene, &Options::default())?;
+//! assert_eq!((image.width, image.height), (64, 48));
+//! assert_eq!(image.pixels.len(), 64 * 48);
+//! assert_eq!(image.stats.primary, 64 * 48);
+//! let centre = image.pixels[24 * 64 + 32];
+//! assert!(centre[0] > centre[1]);                // the red sphere, lit
+//! # Ok::<(), raypack::image::Error>(())
+//! ```
+//!
+//! [`Image::render`] reads the scene into a fixed-capacity scene of the
+//! smallest size tier that holds it (on a thread whose stack is sized for
+//! it: scenes are single values, megabytes for the larger tiers), builds a
+//! BVH, picks the fastest instruction set this CPU has, renders 32×32
+//! tiles on all cores and returns the pixels with the ray counts. Every
+//! choice in [`Options`] (packet width, threads, instruction set, brute
+//! force or BVH) gives the same bytes; only the speed differs.
+//!
+//! [`with_scene`] loads a scene once and hands it to a closure that can
+//! render it many times (the `raypack bench` command does that), and
+//! [`render_tiles`] is the tile loop itself, for scenes built in code.
+
+use crate::camera::{CameraError, Rect};
+use crate::dispatch::{self, Isa};
+use crate::fixed::Fixed;
+use crate::nff::{self, NffCounts, NffError, NffInfo};
+use crate::query::{AccelChoice, Accelerator, BuildSettings, Bvh, BvhError, BvhStats};
+use crate::range::RangeError;
+use crate::render::{Aov, BufferTooSmall, Renderer, Rgb8};
+use crate::scalar::Scalar;
+use crate::scene::{Scene, SceneView};
+use crate::trace::{Mode, RayStats, TraceError, TraceSettings, Tracer};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// The deepest `Options::depth` accepted (the tracer's fixed stack).
+pub const MAX_DEPTH: u32 = 16;
+const DEPTH: usize = MAX_DEPTH as usize;
+
+/// Tile side in pixels of [`Image::render`]: a multiple of every packet
+/// shape.
+pub const TILE: u32 = 32;
+
+/// How [`render_tiles`] cuts and runs a render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tiling {
+    /// Rays per packet: 1, 4, 8 or 16.
+    pub packet: usize,
+    /// Instruction set (used where it applies: [`Isa::used_for`]).
+    pub isa: Isa,
+    /// Worker threads, at least 1.
+    pub threads: usize,
+    /// Tile side in pixels, at least 1 (tiles sit on a grid of this
+    /// pitch from the image's top-left corner).
+    pub tile: u32,
+}
+
+/// The number type to trace with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ScalarKind {
+    /// 32-bit IEEE float.
+    #[default]
+    F32,
+    /// 32.32 fixed point ([`Fixed`]).
+    Fixed,
+}
+
+impl ScalarKind {
+    /// Lower-case name, as the command line spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ScalarKind::F32 => "f32",
+            ScalarKind::Fixed => "fixed",
+        }
+    }
+}
+
+/// How rays find what they hit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum AccelKind {
+    /// A bounding volume hierarchy (the same image, faster).
+    #[default]
+    Bvh,
+    /// Test every primitive.
+    BruteForce,
+}
+
+/// What to render, and how. Every field but `scalar`, `mode`, `depth`,
+/// `aov` and the size leaves the bytes unchanged.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// Image width; `None`: the scene's `resolution` (or, with only the
+    /// height given, the width that keeps its aspect ratio).
+    pub width: Option<u32>,
+    /// Image height; `None` as for `width`.
+    pub height: Option<u32>,
+    /// Rays per packet: 1, 4, 8 or 16.
+    pub packet: usize,
+    /// Worker threads; `None`: one per core.
+    pub threads: Option<usize>,
+    /// Ray casting or Whitted ray tracing.
+    pub mode: Mode,
+    /// Maximum ray depth (segments per path, primary included), 1 to
+    /// [`MAX_DEPTH`].
+    pub depth: u32,
+    /// What each pixel shows.
+    pub aov: Aov,
+    /// Brute force or BVH.
+    pub accel: AccelKind,
+    /// The number type.
+    pub scalar: ScalarKind,
+    /// Instruction set of the render path (must be available on this CPU).
+    pub isa: Isa,
+}
+
+impl Default for Options {
+    /// The scene's size, packets of 8, every core, Whitted to depth 5,
+    /// colour, BVH, `f32`, the best instruction set of this CPU.
+    fn default() -> Self {
+        Options {
+            width: None,
+            height: None,
+            packet: 8,
+            threads: None,
+            mode: Mode::Whitted,
+            depth: 5,
+            aov: Aov::Color,
+            accel: AccelKind::Bvh,
+            scalar: ScalarKind::F32,
+            isa: Isa::best(),
+        }
+    }
+}
+
+/// Why a scene could not be rendered.
+#[derive(Debug)]
+pub enum Error {
+    /// The scene file is malformed or does not fit (line and column inside).
+    Scene(NffError),
+    /// The scene has no `v` block, so no camera.
+    NoCamera,
+    /// The camera was rejected.
+    Camera(CameraError),
+    /// The scene does not fit the fixed-point range.
+    Range(RangeError),
+    /// The tracer was rejected (depth out of range).
+    Trace(TraceError),
+    /// The BVH did not fit.
+    Bvh(BvhError),
+    /// A packet width other than 1, 4, 8 or 16.
+    Packet(usize),
+    /// Zero threads.
+    Threads,
+    /// The instruction set asked for is not available on this CPU.
+    Isa(Isa),
+    /// A worker thread could not be started.
+    Thread(std::io::Error),
+}
+
+impl core::fmt::Display for Error {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::Scene(e) => e.fmt(f),
+            Error::NoCamera => f.write_str("the scene has no `v` block (camera)"),
+            Error::Camera(e) => e.fmt(f),
+            Error::Range(e) => e.fmt(f),
+            Error::Trace(e) => e.fmt(f),
+            Error::Bvh(e) => e.fmt(f),
+            Error::Packet(n) => write!(f, "packet width {n} is not one of 1, 4, 8, 16"),
+            Error::Threads => f.write_str("at least one thread is needed"),
+            Error::Isa(isa) => write!(f, "this CPU cannot run the {isa} instruction set"),
+            Error::Thread(e) => write!(f, "cannot start a thread: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Scene(e) => Some(e),
+            Error::Camera(e) => Some(e),
+            Error::Range(e) => Some(e),
+            Error::Trace(e) => Some(e),
+            Error::Bvh(e) => Some(e),
+            Error::Thread(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<BufferTooSmall> for Error {
+    // Tile buffers are sized by the tile loop itself, so this cannot
+    // happen; it is still an error, not a panic.
+    fn from(e: BufferTooSmall) -> Self {
+        Error::Thread(std::io::Error::other(e.to_string()))
+    }
+}
+
+/// A rendered image: `width × height` pixels, row-major, and what it took.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// The pixels, row-major, `width · height` of them.
+    pub pixels: Vec<Rgb8>,
+    /// The rays traced, by kind.
+    pub stats: RayStats,
+    /// The instruction set the render path ran with.
+    pub isa: Isa,
+    /// Worker threads used.
+    pub threads: usize,
+    /// The accelerator the render ran through.
+    pub accel: AccelKind,
+    /// Wall time of the render (tiles only: not loading or the tree).
+    pub time: Duration,
+}
+
+impl Image {
+    /// Reads `scene` (NFF text), builds what `options` asks for and renders
+    /// it; see the module documentation.
+    pub fn render(scene: &str, options: &Options) -> Result<Image, Error> {
+        with_scene(scene, options.scalar, options.accel, |s| s.render(options, &|| {}))?
+    }
+}
+
+/// What a loaded scene holds, besides its objects.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneInfo {
+    /// Camera, background, counts and lines of the file.
+    pub nff: NffInfo,
+    /// Zero-area polygons (kept, so primitive ids follow the file; never hit).
+    pub degenerate: u32,
+    /// The capacity tier used: primitives, vertices, materials, lights.
+    pub capacity: (usize, usize, usize, usize),
+    /// The tree and its build time, if one was built.
+    pub bvh: Option<(BvhStats, Duration)>,
+    /// The scalar the scene was built with.
+    pub scalar: ScalarKind,
+}
+
+/// A scene loaded by [`with_scene`], ready to be rendered any number of
+/// times (whatever its scalar: the scalar is fixed when loading).
+pub trait LoadedScene {
+    /// What the scene holds.
+    fn info(&self) -> &SceneInfo;
+    /// Bounds of the bounded primitives (`None` if there are none), in
+    /// `f32`.
+    fn bounds(&self) -> Option<([f32; 3], [f32; 3])>;
+    /// Renders the scene with `options`; `progress` is called after each
+    /// tile, from the worker threads. `options.scalar` is the loaded
+    /// scene's and is ignored here; `options.accel` may ask for brute force
+    /// even where a tree was built (a scene loaded without a tree always
+    /// renders by brute force: [`Image::accel`] says which ran).
+    fn render(&self, options: &Options, progress: &(dyn Fn() + Sync)) -> Result<Image, Error>;
+}
+
+/// A scene of scalar `S` and the tree it is traced through.
+struct Loaded<'a, S> {
+    view: SceneView<'a, S>,
+    accel: AccelChoice<'a, S>,
+    info: SceneInfo,
+}
+
+impl<S: Scalar> LoadedScene for Loaded<'_, S> {
+    fn info(&self) -> &SceneInfo {
+        &self.info
+    }
+
+    fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+        self.view.bounds().map(|(lo, hi)| (lo.to_f32(), hi.to_f32()))
+    }
+
+    fn render(&self, options: &Options, progress: &(dyn Fn() + Sync)) -> Result<Image, Error> {
+        let cam = self.info.nff.camera.ok_or(Error::NoCamera)?;
+        let (width, height) = image_size(options.width, options.height, (cam.width, cam.height));
+        let camera = cam.camera::<S>(width, height).map_err(Error::Camera)?;
+        // Fixed point: the whole scene must fit its range (a no-op for f32).
+        self.view.check_range(camera.eye()).map_err(Error::Range)?;
+        let settings = TraceSettings { mode: options.mode, max_depth: options.depth, ..TraceSettings::default() };
+        let (accel, kind) = match (options.accel, self.accel) {
+            (AccelKind::Bvh, tree @ AccelChoice::Bvh(_)) => (tree, AccelKind::Bvh),
+            _ => (AccelChoice::BruteForce, AccelKind::BruteForce),
+        };
+        let tracer = Tracer::<'_, S, _, DEPTH>::with_accelerator(self.view, accel, settings).map_err(Error::Trace)?;
+        let mut renderer = Renderer::new(tracer, camera);
+        renderer.aov = options.aov;
+        let threads = threads(options.threads)?;
+        let start = Instant::now();
+        let tiling = Tiling { packet: options.packet, isa: options.isa, threads, tile: TILE };
+        let (pixels, stats) = render_tiles(&renderer, camera.full_rect(), &tiling, progress)?;
+        let time = start.elapsed();
+        Ok(Image { width, height, pixels, stats, isa: options.isa.used_for::<S>(options.packet), threads, accel: kind, time })
+    }
+}
+
+/// The number of worker threads for `asked` (`None`: one per core).
+fn threads(asked: Option<usize>) -> Result<usize, Error> {
+    match asked {
+        Some(0) => Err(Error::Threads),
+        Some(n) => Ok(n),
+        None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
+    }
+}
+
+/// Image size: the file's resolution, or the overrides; one override alone
+/// keeps the file's aspect ratio (rounded, at least 1, at most 65 535).
+pub fn image_size(width: Option<u32>, height: Option<u32>, file: (u32, u32)) -> (u32, u32) {
+    let scaled = |a: u32, num: u32, den: u32| ((a as u64 * num as u64 + den as u64 / 2) / den.max(1) as u64).clamp(1, 65535) as u32;
+    match (width, height) {
+        (Some(w), Some(h)) => (w, h),
+        (Some(w), None) => (w, scaled(w, file.1, file.0)),
+        (None, Some(h)) => (scaled(h, file.0, file.1), h),
+        (None, None) => file,
+    }
+}
+
+/// Whether counts fit a tier.
+fn fits(c: &NffCounts, p: usize, v: usize, m: usize, l: usize) -> bool {
+    c.primitives() <= p && c.vertices <= v && c.materials <= m && c.lights <= l
+}
+
+/// Reads `text` (NFF) into a scene of scalar `scalar` in the smallest
+/// capacity tier that holds it (up to 2²⁰ primitives, 2²³ vertex slots,
+/// 65 536 materials, 16 384 lights; a larger file fails with the reader's
+/// capacity error), builds a BVH over it unless `accel` is brute force, and
+/// runs `f` on it, on a thread whose stack holds the scene. Returns what
+/// `f` returns.
+pub fn with_scene<T: Send>(text: &str, scalar: ScalarKind, accel: AccelKind, f: impl FnOnce(&dyn LoadedScene) -> T + Send) -> Result<T, Error> {
+    match scalar {
+        ScalarKind::F32 => with_tier::<f32, T>(text, scalar, accel, f),
+        ScalarKind::Fixed => with_tier::<Fixed, T>(text, scalar, accel, f),
+    }
+}
+
+fn with_tier<S: Scalar, T: Send>(text: &str, scalar: ScalarKind, accel: AccelKind, f: impl FnOnce(&dyn LoadedScene) -> T + Send) -> Result<T, Error> {
+    let counts = nff::scan(text).map_err(Error::Scene)?.counts;
+    let accel = accel == AccelKind::Bvh;
+    if fits(&counts, 1 << 10, 1 << 13, 256, 64) {
+        load_in::<S, { 1 << 10 }, { 1 << 13 }, 256, 64, T>(text, scalar, accel, f)
+    } else if fits(&counts, 1 << 14, 1 << 17, 1024, 256) {
+        load_in::<S, { 1 << 14 }, { 1 << 17 }, 1024, 256, T>(text, scalar, accel, f)
+    } else if fits(&counts, 1 << 18, 1 << 21, 16384, 4096) {
+        load_in::<S, { 1 << 18 }, { 1 << 21 }, 16384, 4096, T>(text, scalar, accel, f)
+    } else {
+        // The largest tier; beyond it the reader reports the capacity error.
+        load_in::<S, { 1 << 20 }, { 1 << 23 }, 65536, 16384, T>(text, scalar, accel, f)
+    }
+}
+
+/// Loads into a `Scene<S, P, V, M, L>` on a thread with room for it and
+/// runs `f` there.
+fn load_in<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize, T: Send>(
+    text: &str,
+    scalar: ScalarKind,
+    accel: bool,
+    f: impl FnOnce(&dyn LoadedScene) -> T + Send,
+) -> Result<T, Error> {
+    // Twice the scene (and tree): an unoptimized build may build them in a
+    // temporary first.
+    let tree = if accel { std::mem::size_of::<Bvh<S, P>>() } else { 0 };
+    let stack = 2 * (std::mem::size_of::<Scene<S, P, V, M, L>>() + tree) + (32 << 20);
+    std::thread::scope(|s| {
+        let worker = std::thread::Builder::new().name("raypack-scene".into()).stack_size(stack).spawn_scoped(s, move || {
+            let mut scene = Scene::<S, P, V, M, L>::new();
+            let nff = nff::parse(text, &mut scene).map_err(Error::Scene)?;
+            let mut info = SceneInfo { nff, degenerate: scene.degenerate_polygons(), capacity: (P, V, M, L), bvh: None, scalar };
+            if !accel {
+                return Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::BruteForce, info }));
+            }
+            let mut bvh = Bvh::<S, P>::new();
+            // Pad the boxes for rays that start as far out as the eye.
+            let reach = nff.camera.map_or(0.0, |c| c.from.iter().fold(0.0f32, |m, v| m.max(v.abs())));
+            let start = Instant::now();
+            let stats = bvh.build_with(&scene.view(), &BuildSettings { reach, ..BuildSettings::default() }).map_err(Error::Bvh)?;
+            info.bvh = Some((stats, start.elapsed()));
+            Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::Bvh(bvh.view()), info }))
+        });
+        match worker {
+            Ok(handle) => handle.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+            Err(e) => Err(Error::Thread(e)),
+        }
+    })
+}
+
+/// Renders `rect` of `renderer`'s image (clipped to the image) in square
+/// tiles on the image's grid of pitch `tiling.tile`, on `tiling.threads`
+/// worker threads, with packets of `tiling.packet` rays compiled for
+/// `tiling.isa` where that applies ([`Isa::used_for`]), and returns the
+/// pixels of the clipped `rect` (row-major) and the rays traced;
+/// `progress` is called after each tile. The one tile loop of raypack:
+/// [`Image::render`] and the command line use it.
+///
+/// Each tile is rendered independently into its own buffer, so the bytes
+/// depend neither on the number of threads nor on which thread renders
+/// which tile; the core guarantees that they do not depend on the packet
+/// width or the instruction set either.
+pub fn render_tiles<S: Scalar, A: Accelerator<S> + Sync, const D: usize>(
+    renderer: &Renderer<'_, S, A, D>,
+    rect: Rect,
+    tiling: &Tiling,
+    progress: &(dyn Fn() + Sync),
+) -> Result<(Vec<Rgb8>, RayStats), Error> {
+    let Tiling { packet, isa, threads, tile } = *tiling;
+    if !matches!(packet, 1 | 4 | 8 | 16) {
+        return Err(Error::Packet(packet));
+    }
+    if threads == 0 {
+        return Err(Error::Threads);
+    }
+    if !isa.is_available() {
+        return Err(Error::Isa(isa));
+    }
+    let rect = clip(rect, renderer.camera.full_rect());
+    let tiles = tiles(rect, tile.max(1));
+    let results: Mutex<Vec<Option<(Vec<Rgb8>, RayStats)>>> = Mutex::new(vec![None; tiles.len()]);
+    let next = AtomicUsize::new(0);
+    let failure: Mutex<Option<Error>> = Mutex::new(None);
+    let work = || loop {
+        let i = next.fetch_add(1, Ordering::Relaxed);
+        let Some(&tile) = tiles.get(i) else { return };
+        let mut px = vec![[0u8; 3]; tile.w as usize * tile.h as usize];
+        let mut stats = RayStats::default();
+        let done = match packet {
+            1 => dispatch::render_rect::<S, A, D, 1>(isa, renderer, tile, &mut px, &mut stats),
+            4 => dispatch::render_rect::<S, A, D, 4>(isa, renderer, tile, &mut px, &mut stats),
+            8 => dispatch::render_rect::<S, A, D, 8>(isa, renderer, tile, &mut px, &mut stats),
+            _ => dispatch::render_rect::<S, A, D, 16>(isa, renderer, tile, &mut px, &mut stats),
+        };
+        match done {
+            Ok(()) => {
+                if let Ok(mut r) = results.lock() {
+                    if let Some(slot) = r.get_mut(i) {
+                        *slot = Some((px, stats));
+                    }
+                }
+                progress();
+            }
+            Err(e) => {
+                if let Ok(mut f) = failure.lock() {
+                    *f = Some(e.into());
+                }
+                return;
+            }
+        }
+    };
+    let workers = threads.min(tiles.len()).max(1);
+    std::thread::scope(|s| -> Result<(), Error> {
+        let mut handles = Vec::new();
+        for k in 1..workers {
+            handles.push(std::thread::Builder::new().name(format!("raypack-tile-{k}")).spawn_scoped(s, work).map_err(Error::Thread)?);
+        }
+        work();
+        for h in handles {
+            h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+        }
+        Ok(())
+    })?;
+    if let Some(e) = failure.into_inner().ok().flatten() {
+        return Err(e);
+    }
+    // Assemble the tiles; ray counts are sums, the same in any order.
+    let results = results.into_inner().unwrap_or_default();
+    let mut pixels = vec![[0u8; 3]; rect.w as usize * rect.h as usize];
+    let mut stats = RayStats::default();
+    for (tile, result) in tiles.iter().zip(results) {
+        let Some((px, s)) = result else { continue };
+        stats.merge(&s);
+        let (w, x0) = (tile.w as usize, (tile.x - rect.x) as usize);
+        for (row, src) in px.chunks_exact(w).enumerate() {
+            let dst = (tile.y - rect.y) as usize + row;
+            let at = dst * rect.w as usize + x0;
+            if let Some(d) = pixels.get_mut(at..at + w) {
+                d.copy_from_slice(src);
+            }
+        }
+    }
+    Ok((pixels, stats))
+}
+
+/// `r` clipped to `to`.
+fn clip(r: Rect, to: Rect) -> Rect {
+    let x0 = r.x.max(to.x);
+    let y0 = r.y.max(to.y);
+    let x1 = r.x.saturating_add(r.w).min(to.x.saturating_add(to.w));
+    let y1 = r.y.saturating_add(r.h).min(to.y.saturating_add(to.h));
+    Rect { x: x0, y: y0, w: x1.saturating_sub(x0), h: y1.saturating_sub(y0) }
+}
+
+/// The tiles covering `rect`, on the image's grid of pitch `pitch`, row by
+/// row.
+fn tiles(rect: Rect, pitch: u32) -> Vec<Rect> {
+    let mut out = Vec::new();
+    if rect.w == 0 || rect.h == 0 {
+        return out;
+    }
+    let (x_end, y_end) = (rect.x + rect.w, rect.y + rect.h);
+    let mut y = rect.y;
+    while y < y_end {
+        let y_next = (y / pitch).saturating_add(1).saturating_mul(pitch).min(y_end);
+        let mut x = rect.x;
+        while x < x_end {
+            let x_next = (x / pitch).saturating_add(1).saturating_mul(pitch).min(x_end);
+            out.push(Rect { x, y, w: x_next - x, h: y_next - y });
+            x = x_next;
+        }
+        y = y_next;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_cover_a_rectangle_once_on_the_image_grid() {
+        for rect in [Rect { x: 0, y: 0, w: 1, h: 1 }, Rect { x: 0, y: 0, w: 31, h: 33 }, Rect { x: 5, y: 30, w: 64, h: 64 }, Rect { x: 31, y: 1, w: 100, h: 7 }] {
+            let mut seen = vec![0u8; ((rect.x + rect.w) * (rect.y + rect.h)) as usize];
+            let stride = rect.x + rect.w;
+            for t in tiles(rect, TILE) {
+                assert!(t.x / TILE == (t.x + t.w - 1) / TILE && t.y / TILE == (t.y + t.h - 1) / TILE, "{t:?} crosses the grid");
+                for y in t.y..t.y + t.h {
+                    for x in t.x..t.x + t.w {
+                        seen[(y * stride + x) as usize] += 1;
+                    }
+                }
+            }
+            for y in 0..rect.y + rect.h {
+                for x in 0..stride {
+                    let inside = x >= rect.x && y >= rect.y;
+                    assert_eq!(seen[(y * stride + x) as usize], inside as u8, "{rect:?} at ({x}, {y})");
+                }
+            }
+        }
+        assert!(tiles(Rect { x: 3, y: 3, w: 0, h: 5 }, TILE).is_empty());
+        assert_eq!(tiles(Rect { x: 0, y: 0, w: 3, h: 2 }, 1).len(), 6);
+    }
+
+    #[test]
+    fn size_overrides_keep_the_aspect_ratio() {
+        assert_eq!(image_size(None, None, (512, 256)), (512, 256));
+        assert_eq!(image_size(Some(100), None, (512, 256)), (100, 50));
+        assert_eq!(image_size(None, Some(100), (512, 256)), (200, 100));
+        assert_eq!(image_size(Some(7), Some(9), (512, 256)), (7, 9));
+        assert_eq!(image_size(Some(1), None, (512, 1)), (1, 1));
+    }
+
+    #[test]
+    fn bad_options_are_errors() {
+        let scene = "v\nfrom 0 -5 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 1\nresolution 8 8\nf 1 1 1 1 0 0 0 0\ns 0 0 0 1\n";
+        let e = Image::render(scene, &Options { packet: 3, ..Options::default() }).unwrap_err();
+        assert!(matches!(e, Error::Packet(3)), "{e}");
+        let e = Image::render(scene, &Options { threads: Some(0), ..Options::default() }).unwrap_err();
+        assert!(matches!(e, Error::Threads), "{e}");
+        let e = Image::render(scene, &Options { depth: 0, ..Options::default() }).unwrap_err();
+        assert!(matches!(e, Error::Trace(TraceError::Depth { requested: 0, .. })), "{e}");
+        let e = Image::render("s 0 0 0 1\n", &Options::default()).unwrap_err();
+        assert!(matches!(e, Error::Scene(_)), "{e}");
+        let e = Image::render("f 1 1 1 1 0 0 0 0\ns 0 0 0 1\n", &Options::default()).unwrap_err();
+        assert!(matches!(e, Error::NoCamera), "{e}");
+        assert_eq!(e.to_string(), "the scene has no `v` block (camera)");
+    }
+
+    #[test]
+    fn same_bytes_for_every_packet_thread_count_and_accelerator() {
+        let scene = include_str!("../tests/scenes/balls-1.nff");
+        let base = Options { width: Some(40), height: Some(30), packet: 1, threads: Some(1), ..Options::default() };
+        let reference = Image::render(scene, &base).unwrap();
+        for packet in [4, 8, 16] {
+            for threads in [1, 3] {
+                for accel in [AccelKind::Bvh, AccelKind::BruteForce] {
+                    let o = Options { packet, threads: Some(threads), accel, ..base };
+                    let image = Image::render(scene, &o).unwrap();
+                    assert_eq!(image.accel, accel);
+                    assert_eq!(image.pixels, reference.pixels, "{o:?}");
+                    assert_eq!(image.stats.rays(), reference.stats.rays(), "{o:?}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,153 @@
+//! Brute force: every query tests every primitive, in index order. The
+//! reference every other accelerator must match bit for bit, and the
+//! accelerator of choice for small scenes and for firmware (no memory, and
+//! no tree code in the image).
+
+use super::accelerator::{Accelerator, Hit};
+use crate::lanes::{Lanes, Mask};
+use crate::ray::RayPacket;
+use crate::scalar::Scalar;
+use crate::scene::SceneView;
+
+/// Tests every primitive of the scene, in index order.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BruteForce;
+
+impl<S: Scalar> Accelerator<S> for BruteForce {
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn closest_hit<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Hit<S, W> {
+        closest_hit(scene, ray, t_min, t_max, active)
+    }
+
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn transmittance<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Lanes<S, W> {
+        transmittance(scene, ray, t_min, t_max, active)
+    }
+}
+
+/// [`Accelerator::closest_hit`] by testing every primitive in index order.
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+pub(crate) fn closest_hit<S: Scalar, const W: usize>(
+    scene: &SceneView<'_, S>,
+    ray: &RayPacket<S, W>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    active: Mask<W>,
+) -> Hit<S, W> {
+    let mut best_t = t_max;
+    let mut best_id = [u32::MAX; W];
+    if active.any() {
+        let prims = scene.primitives();
+        let verts = scene.vertices();
+        // (A `Range` index rather than `enumerate`, whose counter has an
+        // overflow check in debug builds: the render path has no panic path.)
+        for (k, p) in (0..prims.len()).zip(prims.iter()) {
+            // Only roots strictly nearer than the best so far come back, so a
+            // later primitive at the same distance never replaces an earlier one.
+            let r = p.shape.roots(verts, ray, t_min, best_t, active);
+            let (t, m) = r.nearest();
+            if m.none() {
+                continue;
+            }
+            best_t = Lanes::select(m, t, best_t);
+            best_id = m.select_u32([k as u32; W], best_id);
+        }
+    }
+    // Which lanes found something follows from the ids (kept out of the
+    // loop to leave registers for the ray).
+    let mut found = Mask::splat(false);
+    for i in 0..W {
+        found.set(i, best_id[i] != u32::MAX);
+    }
+    Hit { t: best_t, prim: best_id, mask: found }
+}
+
+/// [`Accelerator::transmittance`] by testing every primitive in index order.
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+pub(crate) fn transmittance<S: Scalar, const W: usize>(
+    scene: &SceneView<'_, S>,
+    ray: &RayPacket<S, W>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    active: Mask<W>,
+) -> Lanes<S, W> {
+    let mut trans = Lanes::select(active, Lanes::splat(S::ONE), Lanes::zero());
+    let mut live = active;
+    let verts = scene.vertices();
+    for p in scene.primitives().iter() {
+        if live.none() {
+            break;
+        }
+        let r = p.shape.roots(verts, ray, t_min, t_max, live);
+        if r.hit0.none() {
+            continue;
+        }
+        let kt = scene.kt_of_material(p.material);
+        if kt == S::ZERO {
+            // Opaque: these lanes are in shadow; stop tracing them.
+            trans = Lanes::select(r.hit0, Lanes::zero(), trans);
+            live = live.and_not(r.hit0);
+        } else {
+            // One factor per crossing, in primitive order.
+            trans = Lanes::select(r.hit0, trans * kt, trans);
+            trans = Lanes::select(r.hit1, trans * kt, trans);
+        }
+    }
+    trans
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Material, Scene};
+    use crate::vec3::Vec3;
+
+    type Small = Scene<f32, 4, 8, 2, 1>;
+
+    #[test]
+    fn closest_hit_prefers_nearest_then_lowest_index() {
+        let mut s = Small::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        s.add_sphere(Vec3::new(0.0, 0.0, 10.0), 1.0, m).unwrap();
+        s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, m).unwrap();
+        s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, m).unwrap(); // same surface as 1
+        let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
+        let h = BruteForce.closest_hit(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), Mask::splat(true));
+        assert!(h.mask.get(0));
+        assert_eq!(h.prim[0], 1);
+        assert_eq!(h.t.0[0], 4.0);
+    }
+
+    #[test]
+    fn transmittance_multiplies_kt_per_crossing() {
+        let mut s = Small::new();
+        let mut glass = Material::diffuse(Vec3::new(1.0, 1.0, 1.0));
+        glass.kt = 0.5;
+        let g = s.add_material(glass).unwrap();
+        let o = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, g).unwrap();
+        let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
+        let all = Mask::splat(true);
+        let shadow = |s: &Small, far: f32| BruteForce.transmittance(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(far), all).0[0];
+        assert_eq!(shadow(&s, 10.0), 0.25);
+        assert_eq!(shadow(&s, 5.0), 0.5);
+        s.add_sphere(Vec3::new(0.0, 0.0, 8.0), 0.5, o).unwrap();
+        assert_eq!(shadow(&s, 10.0), 0.0);
+        // Inactive lanes return 0.
+        assert_eq!(BruteForce.transmittance(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(1.0), Mask::splat(false)).0[0], 0.0);
+    }
+}

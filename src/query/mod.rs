@@ -1,0 +1,33 @@
+//! Queries against a scene: the closest hit of each ray of a packet, and the
+//! light a shadow ray lets through. This module is the one place that knows
+//! how a scene is searched.
+//!
+//! The scene itself ([`crate::scene::SceneView`]) is plain data: primitives,
+//! the vertex pool, materials and lights. An [`Accelerator`] answers queries
+//! over that data:
+//! - [`BruteForce`] tests every primitive in index order; it needs no memory
+//!   and is what firmware without a tree links (nothing else);
+//! - [`BvhView`], a view of a fixed-memory [`Bvh`], visits only the
+//!   primitives whose boxes a ray reaches, with the same bits as brute force;
+//! - [`AccelChoice`] is either of the two, chosen at run time (the CLI's
+//!   `--accel`), for programs that want both without two compiled copies of
+//!   the renderer.
+//!
+//! The accelerator is a type parameter of the tracer, so the choice costs
+//! nothing at run time and code that is never chosen is never compiled. The
+//! instruction-set dispatcher (`crate::dispatch`, std only) compiles queries
+//! for AVX2 and AVX-512 by wrapping an accelerator in a type of its own.
+//!
+//! Every accelerator gives the same answer, bit for bit: ties between
+//! primitives at the same distance go to the lower index, and transmissive
+//! occluders multiply the light in primitive order.
+
+mod accelerator;
+mod brute;
+pub mod bvh;
+mod choice;
+
+pub use accelerator::{Accelerator, Hit, SceneMismatch};
+pub use brute::BruteForce;
+pub use bvh::{BuildSettings, Bvh, BvhError, BvhStats, BvhView};
+pub use choice::AccelChoice;
