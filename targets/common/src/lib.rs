@@ -22,6 +22,8 @@ pub mod console;
 pub mod draw;
 #[cfg(feature = "panel")]
 pub mod panel;
+#[cfg(feature = "panel")]
+pub mod spi_panel;
 pub mod stack;
 pub mod timing;
 
@@ -71,6 +73,21 @@ impl Default for SceneSlot {
     fn default() -> Self {
         Self::new()
     }
+}
+
+/// The name a scalar is reported under: the first column of
+/// `targets/checksums.txt` and the `SCALAR` of `SCALAR.key=value`.
+pub trait ScalarName {
+    /// `f32`, `fixed`, ...
+    const NAME: &'static str;
+}
+
+impl ScalarName for f32 {
+    const NAME: &'static str = "f32";
+}
+
+impl ScalarName for Fixed {
+    const NAME: &'static str = "fixed";
 }
 
 /// Image width rendered by every firmware.

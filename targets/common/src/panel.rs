@@ -11,11 +11,12 @@
 use crate::draw::render_demo_into;
 use crate::timing::{measure, Clock};
 use crate::{console, Failure, IMAGE_HEIGHT, IMAGE_WIDTH};
+use embedded_graphics::image::GetPixel;
 use embedded_graphics::mono_font::ascii::FONT_6X10;
-use embedded_graphics::mono_font::MonoTextStyle;
-use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
+use embedded_graphics::mono_font::MonoFont;
+use embedded_graphics::pixelcolor::{BinaryColor, Rgb565, RgbColor};
 use embedded_graphics::prelude::*;
-use embedded_graphics::text::{Baseline, Text};
+use embedded_graphics::primitives::Rectangle;
 use raypack::demo::DemoScene;
 use raypack::render::Rgb8;
 use raypack::trace::RayStats;
@@ -67,22 +68,63 @@ where
 
 /// Writes the label lines right of the image.
 pub fn draw_label<D: DrawTarget<Color = Rgb565>>(display: &mut D, scalar: &str, frame: &Frame) -> Result<(), D::Error> {
-    let style = MonoTextStyle::new(&FONT_6X10, Rgb565::WHITE);
-    let dim = MonoTextStyle::new(&FONT_6X10, Rgb565::new(20, 40, 20));
+    let bright = Rgb565::WHITE;
+    let dim = DIM;
     let mut seconds = [0u8; LINE_BYTES];
     let mut rays = [0u8; LINE_BYTES];
-    let lines: [(&str, MonoTextStyle<'_, Rgb565>); 6] = [
-        ("raypack", style),
-        (scalar, style),
+    let lines: [(&str, Rgb565); 6] = [
+        ("raypack", bright),
+        (scalar, bright),
         ("frame time", dim),
-        (format_seconds(frame.micros, &mut seconds), style),
+        (format_seconds(frame.micros, &mut seconds), bright),
         ("rays", dim),
-        (format_count(frame.rays.total(), &mut rays), style),
+        (format_count(frame.rays.total(), &mut rays), bright),
     ];
     let mut at = LABEL_TOP_LEFT;
-    for (text, style) in lines {
-        Text::with_baseline(text, at, style, Baseline::Top).draw(display)?;
+    for (text, color) in lines {
+        draw_text(display, text, at, color, Rgb565::BLACK)?;
         at.y += LABEL_LINE;
+    }
+    Ok(())
+}
+
+/// Writes `text` on label line `line` (0 is the first; [`draw_label`]
+/// fills lines 0 to 5, a board may add lines 6 and 7), bright or dim.
+pub fn draw_label_line<D: DrawTarget<Color = Rgb565>>(display: &mut D, line: i32, text: &str, bright: bool) -> Result<(), D::Error> {
+    let color = if bright { Rgb565::WHITE } else { DIM };
+    draw_text(display, text, LABEL_TOP_LEFT + Point::new(0, line * LABEL_LINE), color, Rgb565::BLACK)
+}
+
+/// The colour of the label's captions.
+const DIM: Rgb565 = Rgb565::new(20, 40, 20);
+
+/// The label's font.
+pub const FONT: MonoFont<'static> = FONT_6X10;
+/// Glyph width of [`FONT`].
+const GLYPH_W: u32 = 6;
+/// Glyph height of [`FONT`].
+const GLYPH_H: u32 = 10;
+
+/// Draws `text` in [`FONT`] with its top-left corner at `at`: each glyph
+/// as one 6×10 `fill_contiguous` (`color` on `background`), its pixels read
+/// from the font's glyph image with checked look-ups. (embedded-graphics'
+/// own `Text` drawing does the same, but leaves a slice-index panic
+/// reachable after LTO, which the `panic-never` build refuses.)
+pub fn draw_text<D: DrawTarget<Color = Rgb565>>(display: &mut D, text: &str, at: Point, color: Rgb565, background: Rgb565) -> Result<(), D::Error> {
+    let per_row = (FONT.image.size().width / GLYPH_W).max(1);
+    let mut x = at.x;
+    for c in text.chars() {
+        let index = FONT.glyph_mapping.index(c) as u32;
+        let cell = Point::new(((index % per_row) * GLYPH_W) as i32, ((index / per_row) * GLYPH_H) as i32);
+        let mut pixels = [background; (GLYPH_W * GLYPH_H) as usize];
+        for (i, px) in pixels.iter_mut().enumerate() {
+            let p = cell + Point::new((i as u32 % GLYPH_W) as i32, (i as u32 / GLYPH_W) as i32);
+            if FONT.image.pixel(p) == Some(BinaryColor::On) {
+                *px = color;
+            }
+        }
+        display.fill_contiguous(&Rectangle::new(Point::new(x, at.y), Size::new(GLYPH_W, GLYPH_H)), pixels)?;
+        x = x.saturating_add((GLYPH_W + FONT.character_spacing) as i32);
     }
     Ok(())
 }
@@ -129,7 +171,7 @@ mod tests {
     use crate::tests::{recorded, Fnv};
     use crate::timing::TickRate;
     use embedded_graphics::pixelcolor::raw::{RawU16, ToBytes};
-    use embedded_graphics::primitives::Rectangle;
+    use embedded_graphics::text::{Baseline, Text};
     use raypack::Fixed;
 
     /// A 240×135 RGB565 panel in memory: a framebuffer, and the FNV-1a of
@@ -248,6 +290,19 @@ mod tests {
     }
 
     #[test]
+    fn draw_text_draws_what_embedded_graphics_text_draws() {
+        let mut ours = WirePanel::new();
+        let mut theirs = WirePanel::new();
+        for (i, line) in ["raypack", "fixed32", "12.345 s", "65678", "~{|}?"].iter().enumerate() {
+            let at = Point::new(3 + 7 * i as i32, 2 + 11 * i as i32);
+            draw_text(&mut ours, line, at, Rgb565::WHITE, Rgb565::BLACK).unwrap();
+            let style = embedded_graphics::mono_font::MonoTextStyleBuilder::new().font(&FONT_6X10).text_color(Rgb565::WHITE).background_color(Rgb565::BLACK).build();
+            Text::with_baseline(line, at, style, Baseline::Top).draw(&mut theirs).unwrap();
+        }
+        assert!(ours.pixels == theirs.pixels);
+    }
+
+    #[test]
     fn the_label_fits_right_of_the_image() {
         let mut b = [0u8; LINE_BYTES];
         assert_eq!(format_seconds(12_345_678, &mut b), "12.345 s");
@@ -256,6 +311,6 @@ mod tests {
         assert_eq!(format_count(65678, &mut b), "65678");
         // 12 characters of 6 pixels fit in the columns right of the image.
         assert!(LABEL_TOP_LEFT.x as u32 + 12 * 6 <= PANEL_WIDTH);
-        assert!(LABEL_TOP_LEFT.y + 6 * LABEL_LINE <= PANEL_HEIGHT as i32);
+        assert!(LABEL_TOP_LEFT.y + 8 * LABEL_LINE <= PANEL_HEIGHT as i32);
     }
 }
