@@ -159,7 +159,8 @@ for entry in "${BOARDS[@]}"; do
   dataplusbss=$(( $(sec .data) + $(sec .bss) + $(sec .uninit) ))
   echo "biggest code and read-only symbols ($(basename "$LLVM_NM") --size-sort -S --demangle, top 10):"
   "$LLVM_NM" --size-sort -S --demangle "$elf" | awk '$3 ~ /^[tTrR]$/' | tail -n 10 | tac \
-    | while read -r _addr size _type name; do printf '  %8d  %s\n' "$((16#$size))" "${name:0:110}"; done
+    | while read -r _addr size _type name; do printf '  %8d  %s\n' "$((16#$size))" "${name:0:110}"; done \
+    | sed -e 's/::h[0-9a-f]\{16\}$//' -e 's/_\$LT\$/</g' -e 's/\$LT\$/</g' -e 's/\$GT\$/>/g' -e 's/\$C\$/, /g' -e 's/\$u20\$/ /g' -e 's/\.\./::/g'
 
   if [ "$qemu" = "-" ]; then
     say "$board: not run (no QEMU machine for it)"
