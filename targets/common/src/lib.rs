@@ -1,12 +1,16 @@
 //! What every raypack firmware shares: the demo scene rendered band by band
-//! into a small buffer and folded into checksums, stack painting and
+//! into a small buffer and drawn into an embedded-graphics `DrawTarget`
+//! ([`draw::render_demo_into`]: a real panel on the Raspberry Pi Pico, a
+//! [`ChecksumPanel`] on the QEMU boards), the frame time ([`timing`]: a
+//! [`Clock`], instructions under QEMU's `-icount`), stack painting and
 //! scanning, and the report printed over semihosting.
 //!
 //! Each board crate supplies only its start-up, its memory map, its console
-//! (semihosting) and its fault handlers. The rendering is the core's own
-//! [`Renderer::checksums`](raypack::render::Renderer), the very code the host
-//! test `tests/firmware_checksum.rs` runs, so a checksum that differs from
-//! the host's is a difference in arithmetic, not in code.
+//! (semihosting), its timer and its fault handlers. The rendering is the
+//! core's own `Renderer::draw_bands` over `Renderer::render_bands`, the band
+//! loop the host's `Renderer::checksums` runs for `tests/firmware_checksum.rs`,
+//! so a checksum that differs from the host's is a difference in
+//! arithmetic, not in code.
 //!
 //! Nothing here formats with `core::fmt`: numbers are printed digit by digit,
 //! which keeps the Cortex-M0 image small and keeps `core::fmt`'s panic paths
@@ -15,16 +19,22 @@
 #![deny(missing_docs)]
 
 pub mod console;
+pub mod draw;
+#[cfg(feature = "panel")]
+pub mod panel;
+#[cfg(feature = "panel")]
+pub mod spi_panel;
 pub mod stack;
+pub mod timing;
 
 pub use console::Console;
+pub use timing::{measure, Clock, TickRate};
 
 use raypack::camera::CameraError;
-use raypack::demo::{build_demo_scene, demo_camera};
 use raypack::output::ImageChecksums;
-use raypack::render::{BufferTooSmall, Renderer, Rgb8};
+use raypack::render::{BufferTooSmall, Rgb8};
 use raypack::scene::SceneError;
-use raypack::trace::{TraceError, TraceSettings, Tracer};
+use raypack::trace::TraceError;
 use raypack::Scalar;
 
 pub use raypack::demo::DemoScene;
@@ -65,6 +75,21 @@ impl Default for SceneSlot {
     }
 }
 
+/// The name a scalar is reported under: the first column of
+/// `targets/checksums.txt` and the `SCALAR` of `SCALAR.key=value`.
+pub trait ScalarName {
+    /// `f32`, `fixed`, ...
+    const NAME: &'static str;
+}
+
+impl ScalarName for f32 {
+    const NAME: &'static str = "f32";
+}
+
+impl ScalarName for Fixed {
+    const NAME: &'static str = "fixed";
+}
+
 /// Image width rendered by every firmware.
 pub const IMAGE_WIDTH: u32 = 160;
 /// Image height rendered by every firmware.
@@ -88,6 +113,8 @@ pub enum Failure {
     Trace(TraceError),
     /// The band buffer holds less than one row.
     Buffer(BufferTooSmall),
+    /// The draw target (the display) returned an error.
+    Target,
 }
 
 impl Failure {
@@ -98,28 +125,27 @@ impl Failure {
             Failure::Camera(_) => "camera",
             Failure::Trace(_) => "tracer",
             Failure::Buffer(_) => "band buffer",
+            Failure::Target => "display",
         }
     }
 }
 
-/// Builds the core's demo scene in `scene` (which must be empty, typically
-/// a `static`, so the scene is never copied on the stack), then renders it
-/// at [`IMAGE_WIDTH`]×[`IMAGE_HEIGHT`] with packets of width `W`, band by
-/// band through `band`, and returns the image's checksums and ray counts.
-pub fn render_demo<S: Scalar, const W: usize>(scene: &mut DemoScene<S>, band: &mut [Rgb8]) -> Result<ImageChecksums, Failure> {
-    build_demo_scene(scene).map_err(Failure::Scene)?;
-    let camera = demo_camera::<S>(IMAGE_WIDTH, IMAGE_HEIGHT).map_err(Failure::Camera)?;
-    let tracer: Tracer<'_, S> = Tracer::new(scene.view(), TraceSettings::default()).map_err(Failure::Trace)?;
-    let renderer = Renderer::new(tracer, camera);
-    renderer.checksums::<W>(band).map_err(Failure::Buffer)
-}
+pub use draw::{render_demo, render_demo_into, ChecksumPanel, Probe};
 
-/// [`render_demo`], then [`report_render`] (or [`report_failure`]) under the
-/// name `scalar`; returns whether the render ran.
-pub fn run<S: Scalar, const W: usize>(c: &mut impl Console, scalar: &str, scene: &mut DemoScene<S>, band: &mut [Rgb8]) -> bool {
-    match render_demo::<S, W>(scene, band) {
+/// [`render_demo`] timed by `clock` (scene build, render and checksum
+/// fold; not the report), then [`report_render`] (or [`report_failure`])
+/// under the name `scalar`, with the time as instructions retired under
+/// QEMU's `-icount shift=0` (`SCALAR.instructions=N`); returns whether the
+/// render ran.
+pub fn run<S: Scalar, const W: usize>(c: &mut impl Console, clock: &mut impl Clock, scalar: &str, scene: &mut DemoScene<S>, band: &mut [Rgb8]) -> bool {
+    let rate = clock.rate();
+    let (r, ticks) = measure(clock, || render_demo::<S, W>(scene, band));
+    match r {
         Ok(r) => {
             report_render(c, scalar, W, &r);
+            key(c, scalar, "instructions");
+            c.write_u64(rate.instructions(ticks));
+            c.write_str("\n");
             true
         }
         Err(e) => {
@@ -127,6 +153,32 @@ pub fn run<S: Scalar, const W: usize>(c: &mut impl Console, scalar: &str, scene:
             false
         }
     }
+}
+
+/// Checks the clock against a loop of known length ([`timing::calibrate`])
+/// and prints the timer line; returns whether the clock counts
+/// instructions (QEMU with `-icount shift=0` and the timer at the
+/// frequency the board says).
+#[cfg(all(target_os = "none", any(target_arch = "arm", target_arch = "riscv32")))]
+pub fn check_clock(c: &mut impl Console, clock: &mut impl Clock, timer: &str) -> bool {
+    let rate = clock.rate();
+    let cal = timing::calibrate(clock);
+    c.write_str("timer=");
+    c.write_str(timer);
+    c.write_str(" clock=");
+    c.write_u32(rate.hz());
+    c.write_str(" Hz resolution=");
+    c.write_u64(rate.resolution());
+    c.write_str(" instructions calibration=");
+    c.write_u64(cal.measured);
+    c.write_str(" of ");
+    c.write_u64(cal.expected);
+    c.write_str(if cal.ok() {
+        " instructions (ok: -icount shift=0)\n"
+    } else {
+        " instructions: NOT COUNTING INSTRUCTIONS (run QEMU with -icount shift=0)\n"
+    });
+    cal.ok()
 }
 
 /// Identity of a firmware run, printed first.
@@ -235,4 +287,102 @@ fn panic_never(_: &core::panic::PanicInfo) -> ! {
     // SAFETY: never executes; the symbol is undefined, so the program only
     // links if this function is unreachable and removed.
     unsafe { raypack_firmware_reachable_panic_detected_see_panic_never_build() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// FNV-1a 32, written out again (not raypack's) for the tests.
+    pub(crate) struct Fnv(u32);
+    impl Fnv {
+        pub(crate) fn new() -> Self {
+            Fnv(0x811c_9dc5)
+        }
+        pub(crate) fn write(&mut self, bytes: &[u8]) {
+            for &b in bytes {
+                self.0 = (self.0 ^ b as u32).wrapping_mul(0x0100_0193);
+            }
+        }
+        pub(crate) fn finish(&self) -> u32 {
+            self.0
+        }
+    }
+
+    /// The value `targets/checksums.txt` records for `scalar` and `key`.
+    pub(crate) fn recorded(scalar: &str, key: &str) -> u32 {
+        let text = include_str!("../../checksums.txt");
+        for line in text.lines().filter(|l| !l.starts_with('#')) {
+            let f: Vec<&str> = line.split_whitespace().collect();
+            if f.len() == 3 && f[0] == scalar && f[1] == key {
+                return match f[2].strip_prefix("0x") {
+                    Some(hex) => u32::from_str_radix(hex, 16).unwrap(),
+                    None => f[2].parse().unwrap(),
+                };
+            }
+        }
+        panic!("no {scalar} {key} in targets/checksums.txt")
+    }
+
+    fn checksums<S: Scalar, const W: usize>(rows: usize) -> ImageChecksums {
+        let mut scene = DemoScene::<S>::new();
+        let mut band = vec![[0u8; 3]; band_pixels(rows)];
+        render_demo::<S, W>(&mut scene, &mut band).unwrap()
+    }
+
+    #[test]
+    fn the_checksum_panel_gives_the_recorded_checksums() {
+        // The widths and bands of the QEMU boards: mps2-an386 (8, 2 rows),
+        // microbit (1, 1 row), riscv-virt (4, 2 rows).
+        for (name, c) in [
+            ("f32", checksums::<f32, 8>(2)),
+            ("f32", checksums::<f32, 1>(1)),
+            ("fixed", checksums::<Fixed, 1>(1)),
+            ("fixed", checksums::<Fixed, 4>(2)),
+        ] {
+            assert_eq!(c.rgb888, recorded(name, "rgb888"), "{name} rgb888");
+            assert_eq!(c.rgb565, recorded(name, "rgb565-bayer4"), "{name} rgb565");
+            assert_eq!(c.rays.total(), recorded(name, "rays") as u64, "{name} rays");
+            assert_eq!(c.pixels, IMAGE_WIDTH * IMAGE_HEIGHT);
+        }
+    }
+
+    #[test]
+    fn a_band_shorter_than_a_row_is_reported() {
+        let mut scene = DemoScene::<f32>::new();
+        let mut band = vec![[0u8; 3]; 10];
+        assert!(matches!(render_demo::<f32, 1>(&mut scene, &mut band), Err(Failure::Buffer(_))));
+    }
+
+    /// A clock advancing 40 ticks (at 25 MHz: 1600 instructions) per reading.
+    struct Fake(u64);
+    impl Clock for Fake {
+        fn now(&mut self) -> u64 {
+            self.0 += 40;
+            self.0
+        }
+        fn rate(&self) -> TickRate {
+            TickRate::from_hz(25_000_000)
+        }
+    }
+
+    /// Collects the report.
+    struct Text(String);
+    impl Console for Text {
+        fn write_str(&mut self, s: &str) {
+            self.0.push_str(s);
+        }
+    }
+
+    #[test]
+    fn the_report_names_each_key_after_the_scalar() {
+        let mut scene = DemoScene::<f32>::new();
+        let mut band = vec![[0u8; 3]; band_pixels(2)];
+        let mut out = Text(String::new());
+        assert!(run::<f32, 4>(&mut out, &mut Fake(0), "fixed32", &mut scene, &mut band));
+        let lines: Vec<&str> = out.0.lines().collect();
+        assert!(lines.contains(&"fixed32.instructions=1600"), "{lines:?}");
+        assert!(lines.contains(&"fixed32.pixels=20480"), "{lines:?}");
+        assert!(lines.iter().any(|l| l.starts_with("fixed32.rays=65678 ")), "{lines:?}");
+    }
 }

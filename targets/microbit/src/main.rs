@@ -14,12 +14,17 @@ use core::ptr::{addr_of, addr_of_mut};
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 use cortex_m_semihosting::{debug, hio};
 use raypack::render::Rgb8;
+use raypack_firmware_common::timing::systick::{self, SysTick};
 use raypack_firmware_common::{self as fw, stack, Console, Fixed, SceneSlot};
 
 /// Packet width: the scalar path (no SIMD, and the smallest stack).
 const WIDTH: usize = 1;
 /// Rows per band.
 const BAND_ROWS: usize = 1;
+
+/// The processor clock QEMU gives this machine (its `cpuclk`), which
+/// SysTick counts with CLKSOURCE = processor clock.
+const CPU_HZ: u32 = 16_000_000;
 
 static mut SCENE: SceneSlot = SceneSlot::new();
 static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
@@ -65,12 +70,17 @@ fn main() -> ! {
     let mut con = console();
     fw::report_start(&mut con, &fw::Board { name: "microbit", cpu: "cortex-m0 (soft-float f32)" });
 
+    // SAFETY: nothing else uses SysTick; the SysTick handler below calls
+    // `systick::on_wrap`.
+    let mut clock = unsafe { SysTick::start(CPU_HZ) };
+    let clock_ok = fw::check_clock(&mut con, &mut clock, "systick");
+
     // SAFETY: the only references to these statics, taken once.
     let (slot, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, "f32", slot.empty_f32(), band);
+    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", slot.empty_f32(), band);
     // The same scene again in 32.32 fixed point, in the same memory.
-    let ok_fixed = fw::run::<Fixed, WIDTH>(&mut con, "fixed", slot.empty_fixed(), band);
-    let ok = ok_f32 && ok_fixed;
+    let ok_fixed = fw::run::<Fixed, WIDTH>(&mut con, &mut clock, "fixed", slot.empty_fixed(), band);
+    let ok = ok_f32 && ok_fixed && clock_ok;
 
     // SAFETY: `[bottom, top)` is the painted stack region.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
@@ -78,6 +88,12 @@ fn main() -> ! {
     fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top.saturating_sub(bottom), static_ram });
     con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
     exit(ok)
+}
+
+/// Counts SysTick wraps for the frame-time clock.
+#[exception]
+fn SysTick() {
+    systick::on_wrap();
 }
 
 #[exception]

@@ -9,6 +9,7 @@ use core::ptr::{addr_of, addr_of_mut};
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 use cortex_m_semihosting::{debug, hio};
 use raypack::render::Rgb8;
+use raypack_firmware_common::timing::systick::{self, SysTick};
 use raypack_firmware_common::{self as fw, stack, Console, DemoScene};
 
 /// Packet width: 8 lanes (the FPU is scalar, but the width is what the
@@ -18,6 +19,10 @@ const WIDTH: usize = 8;
 const BAND_ROWS: usize = 2;
 /// Bytes of stack painted and watched (the stack region is most of 4 MiB).
 const STACK_WINDOW: usize = 64 * 1024;
+
+/// The processor clock QEMU gives this machine (its `cpuclk`), which
+/// SysTick counts with CLKSOURCE = processor clock.
+const CPU_HZ: u32 = 25_000_000;
 
 static mut SCENE: DemoScene<f32> = DemoScene::new();
 static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
@@ -83,17 +88,28 @@ fn main() -> ! {
     con.write_hex32(fpdscr);
     con.write_str(if ieee { " (flush-to-zero off, default-NaN off, round to nearest)\n" } else { " NOT IEEE MODE\n" });
 
+    // SAFETY: nothing else uses SysTick; the SysTick handler below calls
+    // `systick::on_wrap`.
+    let mut clock = unsafe { SysTick::start(CPU_HZ) };
+    let clock_ok = fw::check_clock(&mut con, &mut clock, "systick");
+
     // SAFETY: the only references to these statics, taken once.
     let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let ok = fw::run::<f32, WIDTH>(&mut con, "f32", scene, band);
+    let ok = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", scene, band);
 
     // SAFETY: `[bottom, top)` is the painted stack window.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
     let static_ram = (addr_of!(_stack_end) as usize).saturating_sub(addr_of!(__sdata) as usize);
     fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top.saturating_sub(bottom), static_ram });
-    let ok = ok && ieee;
+    let ok = ok && ieee && clock_ok;
     con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
     exit(ok)
+}
+
+/// Counts SysTick wraps for the frame-time clock.
+#[exception]
+fn SysTick() {
+    systick::on_wrap();
 }
 
 #[exception]

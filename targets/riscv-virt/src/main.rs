@@ -6,6 +6,7 @@
 
 use core::ptr::{addr_of, addr_of_mut};
 use raypack::render::Rgb8;
+use raypack_firmware_common::timing::mtime::Mtime;
 use raypack_firmware_common::{self as fw, stack, Console, Fixed, SceneSlot};
 use riscv_semihosting::{debug, hio};
 
@@ -61,12 +62,16 @@ fn main() -> ! {
     let mut con = console();
     fw::report_start(&mut con, &fw::Board { name: "riscv-virt", cpu: "rv32imac (soft-float f32)" });
 
+    // The CLINT's `mtime` (10 MHz on `virt`), read-only: no interrupt.
+    let mut clock = Mtime;
+    let clock_ok = fw::check_clock(&mut con, &mut clock, "mtime");
+
     // SAFETY: the only references to these statics, taken once.
     let (slot, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, "f32", slot.empty_f32(), band);
+    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", slot.empty_f32(), band);
     // The same scene again in 32.32 fixed point, in the same memory.
-    let ok_fixed = fw::run::<Fixed, WIDTH>(&mut con, "fixed", slot.empty_fixed(), band);
-    let ok = ok_f32 && ok_fixed;
+    let ok_fixed = fw::run::<Fixed, WIDTH>(&mut con, &mut clock, "fixed", slot.empty_fixed(), band);
+    let ok = ok_f32 && ok_fixed && clock_ok;
 
     // SAFETY: `[bottom, top)` is the painted stack window.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
