@@ -121,6 +121,21 @@ impl<const W: usize> Mask<W> {
     pub fn and_not(self, other: Self) -> Self {
         self & !other
     }
+    /// The lowest set lane, if any.
+    #[inline(always)]
+    pub fn first_set(self) -> Option<usize> {
+        (0..W).find(|&i| self.0[i] != 0)
+    }
+    /// Lanes whose integer `ids[i]` equals `k` (for example the lanes of a
+    /// packet that hit primitive `k`).
+    #[inline(always)]
+    pub fn from_eq_u32(ids: &[u32; W], k: u32) -> Self {
+        let mut r = [0; W];
+        for i in 0..W {
+            r[i] = word(ids[i] == k);
+        }
+        Mask(r)
+    }
     /// Lane `i` from `a` where set, from `b` elsewhere, for integer lanes
     /// (such as primitive indices).
     #[inline(always)]
@@ -238,6 +253,25 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
     #[inline(always)]
     pub fn sqrt(self) -> Self {
         self.map(S::sqrt)
+    }
+    /// `self` raised to the power `e` per lane ([`Scalar::powf`]: for
+    /// `self` in `[0, 1]` and `e >= 0`).
+    #[inline(always)]
+    pub fn powf(self, e: Self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] = r[i].powf(e.0[i]);
+        }
+        Lanes(r)
+    }
+    /// [`Scalar::to_unorm8`] of every lane.
+    #[inline(always)]
+    pub fn to_unorm8(self) -> [u8; W] {
+        let mut r = [0u8; W];
+        for i in 0..W {
+            r[i] = self.0[i].to_unorm8();
+        }
+        r
     }
     /// Absolute value per lane.
     #[inline(always)]
@@ -392,6 +426,15 @@ mod tests {
         check::<7>(7);
         check::<8>(8);
         check::<16>(16);
+    }
+
+    #[test]
+    fn first_set_and_integer_equality() {
+        let m = Mask::<4>::from_array([false, false, true, true]);
+        assert_eq!(m.first_set(), Some(2));
+        assert_eq!(Mask::<4>::splat(false).first_set(), None);
+        assert_eq!(Mask::<1>::splat(true).first_set(), Some(0));
+        assert_eq!(Mask::from_eq_u32(&[7, 3, 7, 9], 7).to_array(), [true, false, true, false]);
     }
 
     #[test]

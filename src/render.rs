@@ -11,7 +11,6 @@ use crate::lanes::{Lanes, Mask};
 use crate::query::{Accelerator, BruteForce};
 use crate::scalar::Scalar;
 use crate::trace::{RayStats, Tracer};
-use crate::vec3::Vec3;
 
 /// One 8-bit RGB pixel.
 pub type Rgb8 = [u8; 3];
@@ -124,35 +123,44 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         match self.aov {
             Aov::Color => {
                 let c = self.tracer.trace(ray, active, stats);
+                // Quantization as lane code, one channel at a time.
+                let (r, g, b) = (c.x.to_unorm8(), c.y.to_unorm8(), c.z.to_unorm8());
                 for (l, p) in px.iter_mut().enumerate() {
-                    let v = c.lane(l);
-                    *p = [v.x.to_unorm8(), v.y.to_unorm8(), v.z.to_unorm8()];
+                    *p = [r[l], g[l], b[l]];
                 }
             }
             aov => {
                 stats.add_primary(active.count() as u64);
                 let hit = self.tracer.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
-                let surf = if aov == Aov::Normal { Some(self.tracer.surface(ray, &hit)) } else { None };
-                for (l, p) in px.iter_mut().enumerate() {
-                    if !active.get(l) {
-                        continue;
-                    }
-                    *p = match (aov, hit.mask.get(l)) {
-                        (Aov::Depth, false) => u24(0xFF_FFFF),
-                        (Aov::Depth, true) => {
+                // Each encoding as lane code over the whole packet; lanes
+                // outside `active` are not written out by the caller.
+                let mut code = [0u32; W];
+                match aov {
+                    Aov::Depth => {
+                        for l in 0..W {
                             // In f32 for every scalar: fixed point's range would overflow t·256.
                             let v = hit.t.0[l].to_f32() * 256.0 + 0.5;
                             let v = if v >= 16_777_214.0 { 16_777_214 } else { v as u32 };
-                            u24(v)
+                            code[l] = if hit.mask.get(l) { v } else { 0xFF_FFFF };
                         }
-                        (Aov::Id, true) => u24(hit.prim[l].saturating_add(1).min(0xFF_FFFF)),
-                        (Aov::Normal, true) => {
-                            let n = surf.as_ref().map(|s| s.shading.lane(l)).unwrap_or(Vec3::ZERO);
-                            let enc = |c: S| (c * S::HALF + S::HALF).to_unorm8();
-                            [enc(n.x), enc(n.y), enc(n.z)]
+                    }
+                    Aov::Id => {
+                        for l in 0..W {
+                            code[l] = if hit.mask.get(l) { hit.prim[l].saturating_add(1).min(0xFF_FFFF) } else { 0 };
                         }
-                        _ => [0, 0, 0],
-                    };
+                    }
+                    _ => {
+                        let n = self.tracer.surface(ray, &hit).shading;
+                        let half = Lanes::splat(S::HALF);
+                        let (x, y, z) = ((n.x * half + half).to_unorm8(), (n.y * half + half).to_unorm8(), (n.z * half + half).to_unorm8());
+                        for (l, p) in px.iter_mut().enumerate() {
+                            *p = if hit.mask.get(l) { [x[l], y[l], z[l]] } else { [0, 0, 0] };
+                        }
+                        return px;
+                    }
+                }
+                for (p, c) in px.iter_mut().zip(code) {
+                    *p = u24(c);
                 }
             }
         }

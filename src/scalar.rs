@@ -207,6 +207,14 @@ impl Scalar for f32 {
         // `as` saturates and maps NaN to 0.
         libm::floorf(self) as i32
     }
+    /// [`Scalar::to_unorm8`] without a call to `floorf`: after the clamp the
+    /// value `v·255 + ½` lies in `[½, 255½]`, where truncation (`as`, one
+    /// packed conversion) equals the floor. Same result, every input.
+    #[inline(always)]
+    fn to_unorm8(self) -> u8 {
+        let v = self.clamp01() * 255.0 + 0.5;
+        (v as i32).clamp(0, 255) as u8
+    }
     #[inline(always)]
     fn is_finite(self) -> bool {
         f32::is_finite(self)

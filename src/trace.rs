@@ -18,7 +18,7 @@ use crate::lanes::{Lanes, Mask};
 use crate::query::{Accelerator, BruteForce, Hit, SceneMismatch};
 use crate::ray::RayPacket;
 use crate::scalar::Scalar;
-use crate::scene::SceneView;
+use crate::scene::{Material, Primitive, SceneView};
 use crate::vec3::{Vec3, Vec3xW};
 use heapless::Vec as HVec;
 
@@ -253,35 +253,68 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// hold zeros).
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn surface<const W: usize>(&self, ray: &RayPacket<S, W>, hit: &Hit<S, W>) -> SurfacePacket<S, W> {
+        self.surface_and_materials(ray, hit).0
+    }
+
+    /// Surface data and materials at the closest hits, as packet code: one
+    /// pass per distinct primitive among the hit lanes (in a coherent
+    /// packet, one or two), each running that primitive's packet normal
+    /// kernel and splatting its material under the mask of the lanes that
+    /// share it. A lane goes through exactly the operations the one-ray
+    /// tracer performs for it, so the bits do not depend on the width.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn surface_and_materials<const W: usize>(&self, ray: &RayPacket<S, W>, hit: &Hit<S, W>) -> (SurfacePacket<S, W>, Materials<S, W>) {
         let point = ray.at(hit.t);
         let zero = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
         let mut ng = zero;
         let mut ns = zero;
+        let mut mat = Materials::empty();
         let prims = self.scene.primitives();
         let pool = self.scene.vertices();
-        // Gather: each lane hit its own primitive.
-        for l in 0..W {
-            if !hit.mask.get(l) {
-                continue;
-            }
-            if let Some(p) = prims.get(hit.prim[l] as usize) {
-                let pl = point.lane(l);
-                let g = p.shape.normal(pl).normalize_or_zero();
-                let s = p.shape.shading_normal(pool, pl, g).normalize_or_zero();
-                ng.set_lane(l, g);
-                ns.set_lane(l, if s == Vec3::ZERO { g } else { s });
-            }
+        let mut remaining = hit.mask;
+        while let Some(first) = remaining.first_set() {
+            // The lanes that hit the same primitive as the first remaining one.
+            let k = hit.prim.get(first).copied().unwrap_or(u32::MAX);
+            let same = remaining & Mask::from_eq_u32(&hit.prim, k);
+            remaining = remaining.and_not(same);
+            let Some(p) = prims.get(k as usize) else { continue };
+            // Unit geometric normal (zero where it has no length).
+            let (g, _) = p.shape.normals(&point).normalize();
+            ng = Vec3xW::select(same, g, ng);
+            // Shading normal: the geometric one, except on patches, whose
+            // interpolation runs per lane (rare, and branchy by nature).
+            let s = if p.shape.has_shading_normals() { self.patch_normals(p, pool, &point, &g, same) } else { g };
+            ns = Vec3xW::select(same, s, ns);
+            mat.splat(same, &self.scene.material_of(k));
         }
         // Turn both normals to face the ray (visibility is two-sided).
         let cos = ray.dir.dot(ng);
         let entering = cos.le(Lanes::zero());
         let flip = !entering;
-        SurfacePacket {
+        let surf = SurfacePacket {
             point,
             geometric: Vec3xW::select(flip, -ng, ng),
             shading: Vec3xW::select(flip, -ns, ns),
             entering,
+        };
+        (surf, mat)
+    }
+
+    /// Unit interpolated normals of patch `p` in the lanes `m` (falling back
+    /// to the unit geometric normal `g` where the interpolation has no
+    /// length).
+    #[inline(never)]
+    fn patch_normals<const W: usize>(&self, p: &Primitive<S>, pool: &[Vec3<S>], point: &Vec3xW<S, W>, g: &Vec3xW<S, W>, m: Mask<W>) -> Vec3xW<S, W> {
+        let mut out = *g;
+        for l in 0..W {
+            if !m.get(l) {
+                continue;
+            }
+            let gl = g.lane(l);
+            let s = p.shape.shading_normal(pool, point.lane(l), gl).normalize_or_zero();
+            out.set_lane(l, if s == Vec3::ZERO { gl } else { s });
         }
+        out
     }
 
     /// Traces a packet of rays (unit directions) and returns the linear
@@ -317,8 +350,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             if hit.mask.none() {
                 continue;
             }
-            let surf = self.surface(&p.ray, &hit);
-            let mat = Materials::gather(&self.scene, &hit);
+            let (surf, mat) = self.surface_and_materials(&p.ray, &hit);
             let local = self.local(&p.ray, &hit, &surf, &mat, whitted, stats);
             // Local light, weighted by (1 − Kt) in Whitted mode.
             let w_local = if whitted {
@@ -379,12 +411,14 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             // Phong: R = 2(N·L)N − L, highlight Ks·max(0, R·V)^shine.
             let r = surf.shading.scale(n_dot_l * S::TWO) - l_dir;
             let r_dot_v = r.dot(view);
-            let mut spec = zero;
-            for l in 0..W {
-                if lit.get(l) && r_dot_v.0[l] > S::ZERO && mat.ks.0[l] != S::ZERO {
-                    spec.0[l] = mat.ks.0[l] * r_dot_v.0[l].min(S::ONE).powf(mat.shine.0[l]);
-                }
-            }
+            // The highlight as lane code: the power of every lane at once
+            // (a branch-free `powf`), kept where it applies.
+            let highlight = lit & r_dot_v.gt(zero) & mat.ks.ne_lanes(zero);
+            let spec = if highlight.any() {
+                Lanes::select(highlight, mat.ks * r_dot_v.min(Lanes::splat(S::ONE)).powf(mat.shine), zero)
+            } else {
+                zero
+            };
             let diffuse = mat.kd * n_dot_l;
             let shade = mat.color.scale(diffuse);
             let shade = Vec3::new(shade.x + spec, shade.y + spec, shade.z + spec);
@@ -474,33 +508,24 @@ struct Materials<S, const W: usize> {
 }
 
 impl<S: Scalar, const W: usize> Materials<S, W> {
+    /// No material in any lane (the index of refraction 1, everything else 0).
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    fn gather(scene: &SceneView<'_, S>, hit: &Hit<S, W>) -> Self {
+    fn empty() -> Self {
         let z = Lanes::zero();
-        let mut m = Materials {
-            color: Vec3::new(z, z, z),
-            ka: z,
-            kd: z,
-            ks: z,
-            shine: z,
-            kr: z,
-            kt: z,
-            ior: Lanes::splat(S::ONE),
-        };
-        for l in 0..W {
-            if !hit.mask.get(l) {
-                continue;
-            }
-            let mat = scene.material_of(hit.prim[l]);
-            m.color.set_lane(l, mat.color);
-            m.ka.0[l] = mat.ka;
-            m.kd.0[l] = mat.kd;
-            m.ks.0[l] = mat.ks;
-            m.shine.0[l] = mat.shine;
-            m.kr.0[l] = mat.kr;
-            m.kt.0[l] = mat.kt;
-            m.ior.0[l] = mat.ior;
-        }
-        m
+        Materials { color: Vec3::new(z, z, z), ka: z, kd: z, ks: z, shine: z, kr: z, kt: z, ior: Lanes::splat(S::ONE) }
+    }
+
+    /// Sets material `m` in the lanes `lanes`.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn splat(&mut self, lanes: Mask<W>, m: &Material<S>) {
+        let put = |v: S, old: Lanes<S, W>| Lanes::select(lanes, Lanes::splat(v), old);
+        self.color = Vec3xW::select(lanes, m.color.splat(), self.color);
+        self.ka = put(m.ka, self.ka);
+        self.kd = put(m.kd, self.kd);
+        self.ks = put(m.ks, self.ks);
+        self.shine = put(m.shine, self.shine);
+        self.kr = put(m.kr, self.kr);
+        self.kt = put(m.kt, self.kt);
+        self.ior = put(m.ior, self.ior);
     }
 }

@@ -202,6 +202,21 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
         let n = self.scale(inv);
         (Self::select(ok, n, Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero())), ok)
     }
+    /// Component `axis` (0 = x, 1 = y, anything else = z) of every lane.
+    #[inline(always)]
+    pub fn axis(&self, axis: usize) -> Lanes<S, W> {
+        match axis {
+            0 => self.x,
+            1 => self.y,
+            _ => self.z,
+        }
+    }
+    /// Every component multiplied by the lanes `s` (a packet of vectors
+    /// splatted from one vector, scaled per lane).
+    #[inline(always)]
+    pub fn scale_lanes(self, s: Lanes<S, W>) -> Self {
+        Vec3::new(self.x * s, self.y * s, self.z * s)
+    }
     /// Adds the scalar vector `v` to every lane.
     #[inline(always)]
     pub fn add_splat(self, v: Vec3<S>) -> Self {

@@ -55,6 +55,12 @@ impl<S: Scalar> AaBox<S> {
     pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
         face_normal(p, self.min, self.max)
     }
+
+    /// [`AaBox::normal`] of every lane of `p`.
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        face_normals(p, self.min, self.max)
+    }
 }
 
 /// Entry and exit of rays through the slabs `min <= x <= max` on each axis.
@@ -107,6 +113,33 @@ fn slab_axis<S: Scalar, const W: usize>(o: Lanes<S, W>, d: Lanes<S, W>, lo: S, h
         let far = Lanes::select(parallel, Lanes::select(inside, big, -big), far);
         (near, far)
     }
+}
+
+/// [`face_normal`] of every lane of `p`, as lane operations: the same
+/// comparisons and the same choice (the first axis with the smallest
+/// distance; on an axis, the `max` face when strictly nearer) per lane.
+#[inline(always)]
+pub(crate) fn face_normals<S: Scalar, const W: usize>(p: &Vec3xW<S, W>, min: Vec3<S>, max: Vec3<S>) -> Vec3xW<S, W> {
+    let (one, zero) = (Lanes::splat(S::ONE), Lanes::<S, W>::zero());
+    let mut best = Lanes::splat(S::MAX);
+    let mut n = Vec3::new(zero, zero, zero);
+    for axis in 0..3 {
+        let pa = p.axis(axis);
+        let lo = (pa - Lanes::splat(min.axis(axis))).abs();
+        let hi = (Lanes::splat(max.axis(axis)) - pa).abs();
+        let upper = hi.lt(lo);
+        let d = Lanes::select(upper, hi, lo);
+        let s = Lanes::select(upper, one, -one);
+        let nearer = d.lt(best);
+        best = Lanes::select(nearer, d, best);
+        let face = match axis {
+            0 => Vec3::new(s, zero, zero),
+            1 => Vec3::new(zero, s, zero),
+            _ => Vec3::new(zero, zero, s),
+        };
+        n = Vec3xW::select(nearer, face, n);
+    }
+    n
 }
 
 /// Outward normal of the face of `[min, max]` nearest to `p`.

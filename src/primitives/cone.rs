@@ -6,7 +6,7 @@ use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
-use crate::vec3::Vec3;
+use crate::vec3::{Vec3, Vec3xW};
 
 /// An open truncated cone (a cylinder when both radii are equal) from `base`
 /// (radius `base_radius`) to `apex` (radius `apex_radius`), without caps.
@@ -123,6 +123,15 @@ impl<S: Scalar> Cone<S> {
         // Gradient of x² + y² − r(z)², halved: (x, y, −k·r(z)).
         let r = self.base_radius + self.slope * z;
         self.u.scale(x) + self.v.scale(y) - self.w.scale(self.slope * r)
+    }
+
+    /// [`Cone::normal`] of every lane of `p` (the same operations per lane).
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        let rel = p.sub_splat(self.base);
+        let (x, y, z) = (rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
+        let r = Lanes::splat(self.base_radius) + z * self.slope;
+        self.u.splat::<W>().scale_lanes(x) + self.v.splat::<W>().scale_lanes(y) - self.w.splat::<W>().scale_lanes(r * self.slope)
     }
 
     /// Axis-aligned bounds `(min, max)`: the union of the two end discs.

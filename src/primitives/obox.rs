@@ -1,11 +1,11 @@
 //! Oriented box: centre, half-extents and an orthonormal frame.
 
-use super::aabox::{face_normal, slab_roots};
+use super::aabox::{face_normal, face_normals, slab_roots};
 use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
-use crate::vec3::Vec3;
+use crate::vec3::{Vec3, Vec3xW};
 
 /// A box with its own axes `u`, `v`, `w = u × v`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,6 +79,16 @@ impl<S: Scalar> OrientedBox<S> {
         let local = Vec3::new(rel.dot(self.u), rel.dot(self.v), rel.dot(self.w));
         let n = face_normal(local, -self.half, self.half);
         self.u.scale(n.x) + self.v.scale(n.y) + self.w.scale(n.z)
+    }
+
+    /// [`OrientedBox::normal`] of every lane of `p` (the same operations per
+    /// lane).
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        let rel = p.sub_splat(self.center);
+        let local = Vec3::new(rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
+        let n = face_normals(&local, -self.half, self.half);
+        self.u.splat::<W>().scale_lanes(n.x) + self.v.splat::<W>().scale_lanes(n.y) + self.w.splat::<W>().scale_lanes(n.z)
     }
 
     /// Axis-aligned bounds `(min, max)`.

@@ -5,7 +5,7 @@ use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
-use crate::vec3::Vec3;
+use crate::vec3::{Vec3, Vec3xW};
 
 /// A quadric surface, optionally clipped to an axis-aligned box: only the part
 /// inside the box exists, and a ray passes through the clipped-away part to
@@ -258,6 +258,18 @@ impl<S: Scalar> Quadric<S> {
             S::TWO * a * p.x + d * p.y + e * p.z + g,
             S::TWO * b * p.y + d * p.x + f * p.z + h,
             S::TWO * c * p.z + e * p.x + f * p.y + i,
+        )
+    }
+
+    /// [`Quadric::normal`] of every lane of `p` (the same operations per
+    /// lane; products commute exactly, sums keep their order).
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        let [a, b, c, d, e, f, g, h, i, _] = self.k;
+        Vec3::new(
+            p.x * (S::TWO * a) + p.y * d + p.z * e + g,
+            p.y * (S::TWO * b) + p.x * d + p.z * f + h,
+            p.z * (S::TWO * c) + p.x * e + p.y * f + i,
         )
     }
 }

@@ -5,7 +5,7 @@ use super::{AaBox, Cone, OrientedBox, Plane, Polygon, Quadric, Sphere};
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
-use crate::vec3::Vec3;
+use crate::vec3::{Vec3, Vec3xW};
 
 /// The kinds of primitive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -97,6 +97,30 @@ impl<S: Scalar> Shape<S> {
             Shape::Quadric(q) => q.normal(p),
             Shape::Cone(c) => c.normal(p),
         }
+    }
+
+    /// [`Shape::normal`] of every lane of `p` (for the lanes that hit this
+    /// primitive; others hold whatever the formula gives), as lane
+    /// operations: the same operations per lane as the one-point form, so
+    /// the same bits.
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        match self {
+            Shape::Sphere(s) => s.normals(p),
+            Shape::Plane(pl) => pl.normal_vector().splat(),
+            Shape::Polygon(pg) => pg.normal().splat(),
+            Shape::AaBox(b) => b.normals(p),
+            Shape::OrientedBox(b) => b.normals(p),
+            Shape::Quadric(q) => q.normals(p),
+            Shape::Cone(c) => c.normals(p),
+        }
+    }
+
+    /// Whether the shading normal differs from the geometric one (polygon
+    /// patches interpolate vertex normals).
+    #[inline(always)]
+    pub fn has_shading_normals(&self) -> bool {
+        matches!(self, Shape::Polygon(pg) if pg.is_patch())
     }
 
     /// Normal used for shading (interpolated on patches; the geometric normal

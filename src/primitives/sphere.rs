@@ -4,7 +4,7 @@ use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
-use crate::vec3::Vec3;
+use crate::vec3::{Vec3, Vec3xW};
 
 /// A sphere.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,6 +85,12 @@ impl<S: Scalar> Sphere<S> {
     #[inline]
     pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
         p - self.center
+    }
+
+    /// [`Sphere::normal`] of every lane of `p` (the same operations per lane).
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        p.sub_splat(self.center)
     }
 
     /// Axis-aligned bounds `(min, max)`.
