@@ -90,6 +90,11 @@ pub struct Camera<S> {
     /// Image size as scalars.
     w_s: S,
     h_s: S,
+    /// Units of the scene's description per unit of the frame the camera
+    /// (and its scene) lives in: 1 unless the scene was brought into a
+    /// small frame for a limited-range scalar ([`crate::similarity`]). The
+    /// depth AOV reports distances in the description's units.
+    units: f32,
 }
 
 impl<S: Scalar> Camera<S> {
@@ -134,7 +139,27 @@ impl<S: Scalar> Camera<S> {
             sy_scale: tan_half,
             w_s,
             h_s,
+            units: 1.0,
         })
+    }
+
+    /// The same camera, saying that one unit of its frame is `units` units
+    /// of the scene's description (see [`crate::similarity`]); `units` is
+    /// what distances (the depth AOV) are multiplied by to be reported in
+    /// the description's units. Non-finite or non-positive values are
+    /// ignored.
+    pub fn with_units(self, units: f32) -> Self {
+        if units.is_finite() && units > 0.0 {
+            Camera { units, ..self }
+        } else {
+            self
+        }
+    }
+
+    /// Units of the scene's description per unit of the camera's frame
+    /// (1 unless set by [`Camera::with_units`]).
+    pub fn units(&self) -> f32 {
+        self.units
     }
 
     /// Image width in pixels.

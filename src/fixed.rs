@@ -298,6 +298,7 @@ impl Scalar for Fixed {
     const MIN_WEIGHT: Self = Fixed::from_bits(RAW_ONE / 512);
     const LIMITED_RANGE: bool = true;
     const COORDINATE_LIMIT: f32 = COORDINATE_LIMIT;
+    const LIGHT_LIMIT: f32 = COORDINATE_LIMIT;
     const INTERMEDIATE_LIMIT: f32 = INTERMEDIATE_LIMIT;
 
     #[inline]

@@ -43,6 +43,7 @@ pub mod ray;
 pub mod render;
 pub mod scalar;
 pub mod scene;
+pub mod similarity;
 pub mod trace;
 pub mod vec3;
 

@@ -81,14 +81,16 @@ pub fn magnitude<S: Scalar>(p: Vec3<S>) -> f32 {
     p.max_abs().to_f32()
 }
 
-/// Checks one point against [`Scalar::COORDINATE_LIMIT`].
+/// Checks one point against [`Scalar::COORDINATE_LIMIT`] (a light's
+/// position against [`Scalar::LIGHT_LIMIT`]).
 pub fn check_point<S: Scalar>(p: Vec3<S>, item: RangeItem) -> Result<(), RangeError> {
     if !S::LIMITED_RANGE {
         return Ok(());
     }
+    let limit = if matches!(item, RangeItem::Light(_)) { S::LIGHT_LIMIT } else { S::COORDINATE_LIMIT };
     let m = magnitude(p);
-    if m > S::COORDINATE_LIMIT {
-        return Err(error(item, m, S::COORDINATE_LIMIT));
+    if m > limit {
+        return Err(error(item, m, limit));
     }
     Ok(())
 }

@@ -138,8 +138,9 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 match aov {
                     Aov::Depth => {
                         for l in 0..W {
-                            // In f32 for every scalar: fixed point's range would overflow t·256.
-                            let v = hit.t.0[l].to_f32() * 256.0 + 0.5;
+                            // In f32 for every scalar (fixed point's range would
+                            // overflow t·256), in the description's units.
+                            let v = hit.t.0[l].to_f32() * self.camera.units() * 256.0 + 0.5;
                             let v = if v >= 16_777_214.0 { 16_777_214 } else { v as u32 };
                             code[l] = if hit.mask.get(l) { v } else { 0xFF_FFFF };
                         }

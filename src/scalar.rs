@@ -63,6 +63,11 @@ pub trait Scalar:
     /// scene points) stay representable; see [`crate::range`]. Unlimited
     /// (`f32::MAX`) for `f32`.
     const COORDINATE_LIMIT: f32 = f32::MAX;
+    /// The largest coordinate magnitude a light may have with this type
+    /// (lights only enter the tracer through directions and distances to
+    /// them, which the tracer forms without squaring large values, so they
+    /// may lie further out than the scene). Unlimited for `f32`.
+    const LIGHT_LIMIT: f32 = f32::MAX;
     /// The largest single intermediate a kernel may form with this type
     /// (quadric and cone discriminant terms are checked against it; see
     /// [`crate::range`]). Unlimited (`f32::MAX`) for `f32`.
@@ -73,6 +78,20 @@ pub trait Scalar:
     /// `true` for `f32`; `false` by default (integer fixed point gains
     /// little from them).
     const PACKED: bool = false;
+
+    /// Whether vectors are brought to a magnitude near 1 before they are
+    /// normalized ([`Scalar::normalizing_factor`]): for fixed point, whose
+    /// squares overflow for long vectors and lose their digits for short
+    /// ones. `false` for `f32`, whose exponent does that for free.
+    const NORMALIZE_PRESCALE: bool = false;
+
+    /// A power of two `f` (so `v·f` is exact) that brings a magnitude
+    /// `self >= 0` near 1; used only when [`Scalar::NORMALIZE_PRESCALE`]
+    /// is set. The default is 1.
+    #[inline(always)]
+    fn normalizing_factor(self) -> Self {
+        Self::ONE
+    }
 
     /// Converts from `f32` (set-up time only: scene input, camera angles).
     /// Out-of-range values saturate; NaN becomes zero.

@@ -10,6 +10,7 @@
 use crate::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Polygon, Quadric, Shape, ShapeKind, Sphere};
 use crate::range::{self, RangeError, RangeItem};
 use crate::scalar::Scalar;
+use crate::similarity::Similarity;
 use crate::vec3::Vec3;
 use heapless::Vec as HVec;
 
@@ -380,6 +381,57 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         self.add_polygon_from_pool(first, vertices.len() as u32, true, material)
     }
 
+    /// Appends everything `src` holds (of any scalar) in the frame of `sim`
+    /// and converted to this scene's scalar: its materials, lights and
+    /// primitives (in order, so primitive `k` of `src` becomes primitive
+    /// `len() + k` here), its vertex pool, and its background. Every
+    /// transform is computed in `f32` before the conversion (see
+    /// [`crate::similarity`]): how a scene for a limited-range scalar is
+    /// made from one described in any units. Errors as `add_*` (capacity,
+    /// range); on error the scene holds what was added before it.
+    pub fn add_similar<S0: Scalar>(&mut self, src: &SceneView<'_, S0>, sim: &Similarity) -> Result<(), SceneError> {
+        let [r, g, b] = src.background().to_f32();
+        self.set_background(Vec3::from_f32(r, g, b))?;
+        let first_material = self.materials.len();
+        for m in src.materials() {
+            let f = |v: S0| S::from_f32(v.to_f32());
+            let [r, g, b] = m.color.to_f32();
+            let color = Vec3::from_f32(r, g, b);
+            self.add_material(Material { color, ka: f(m.ka), kd: f(m.kd), ks: f(m.ks), shine: f(m.shine), kr: f(m.kr), kt: f(m.kt), ior: f(m.ior) })?;
+        }
+        // The pool in order: positions by `sim`, then each patch's normals
+        // (the second half of its slots) as directions.
+        let first_vertex = self.verts.len();
+        for &v in src.vertices() {
+            self.push_vertex(sim.point(v))?;
+        }
+        for p in src.primitives() {
+            if let Shape::Polygon(pg) = &p.shape {
+                if pg.is_patch() {
+                    let (first, count) = (pg.first_vertex() as usize, pg.vertex_count() as usize);
+                    for i in first.saturating_add(count)..first.saturating_add(2 * count) {
+                        if let (Some(n), Some(slot)) = (src.vertices().get(i), self.verts.get_mut(first_vertex.saturating_add(i))) {
+                            *slot = sim.direction(*n);
+                        }
+                    }
+                }
+            }
+        }
+        for p in src.primitives() {
+            let shape = match p.shape.similar::<S>(sim) {
+                Shape::Polygon(pg) => Shape::Polygon(pg.at_first(pg.first_vertex().saturating_add(first_vertex as u32))),
+                other => other,
+            };
+            let material = u16::try_from(p.material as usize + first_material).map_err(|_| SceneError::UnknownMaterial(p.material))?;
+            self.add_shape(shape, material)?;
+        }
+        for l in src.lights() {
+            let [r, g, b] = l.color.to_f32();
+            self.add_light(sim.point(l.position), Vec3::from_f32(r, g, b))?;
+        }
+        Ok(())
+    }
+
     /// Number of zero-area polygons (kept, never hit), so a reader can warn.
     pub fn degenerate_polygons(&self) -> u32 {
         self.degenerate_polygons
@@ -605,5 +657,32 @@ mod tests {
         assert_eq!(s.add_polygon(&line, m), Ok(0));
         assert_eq!(s.add_sphere(Vec3::ZERO, 1.0, m), Ok(1));
         assert_eq!(s.degenerate_polygons(), 1);
+    }
+
+    #[test]
+    fn a_similar_scene_is_the_same_scene_scaled() {
+        let mut s = Small::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 0.5, 0.25))).unwrap();
+        s.add_sphere(Vec3::new(10.0, 0.0, 0.0), 2.0, m).unwrap();
+        s.add_patch(
+            &[Vec3::new(0.0, 0.0, 0.0), Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.0, 4.0, 0.0)],
+            &[Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.6, 0.8)],
+            m,
+        )
+        .unwrap();
+        s.add_light(Vec3::new(0.0, 0.0, 20.0), Vec3::new(1.0, 1.0, 1.0)).unwrap();
+        let sim = Similarity { origin: [2.0, 0.0, 0.0], scale: 0.5 };
+        let mut t = Small::new();
+        t.add_similar(&s.view(), &sim).unwrap();
+        let v = t.view();
+        assert_eq!(v.materials(), s.view().materials());
+        match v.primitives()[0].shape {
+            Shape::Sphere(sp) => assert_eq!((sp.center(), sp.radius()), (Vec3::new(4.0, 0.0, 0.0), 1.0)),
+            _ => panic!(),
+        }
+        // Positions move, the patch's normals do not.
+        assert_eq!(&v.vertices()[..3], &[Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(-1.0, 2.0, 0.0)]);
+        assert_eq!(&v.vertices()[3..], &s.view().vertices()[3..]);
+        assert_eq!(v.lights()[0].position, Vec3::new(-1.0, 0.0, 10.0));
     }
 }

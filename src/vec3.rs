@@ -107,9 +107,13 @@ impl<S: Scalar> Vec3<S> {
     /// whose length is not a positive number) gives the zero vector.
     #[inline]
     pub fn normalize_or_zero(self) -> Self {
-        let len = self.length();
+        // Fixed point: first bring the largest component near 1 (exactly,
+        // by a power of two), so the squared length neither overflows nor
+        // loses its digits (see `Scalar::NORMALIZE_PRESCALE`).
+        let v = if S::NORMALIZE_PRESCALE { self.scale(self.max_abs().normalizing_factor()) } else { self };
+        let len = v.length();
         if len > S::ZERO && len.is_finite() {
-            self.scale(S::ONE / len)
+            v.scale(S::ONE / len)
         } else {
             Self::ZERO
         }
@@ -193,13 +197,21 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// become zero vectors and are cleared in the returned mask.
     #[inline(always)]
     pub fn normalize(self) -> (Self, Mask<W>) {
-        let len = self.length_squared().sqrt();
+        // Fixed point: the largest component brought near 1 first, exactly
+        // (see `Scalar::NORMALIZE_PRESCALE`).
+        let v = if S::NORMALIZE_PRESCALE {
+            let m = self.x.abs().max(self.y.abs()).max(self.z.abs());
+            self.scale(m.map(S::normalizing_factor))
+        } else {
+            self
+        };
+        let len = v.length_squared().sqrt();
         let mut ok = len.gt(Lanes::zero());
         for i in 0..W {
             ok.set(i, ok.get(i) && len.0[i].is_finite());
         }
         let inv = Lanes::splat(S::ONE).div_nonzero(Lanes::select(ok, len, Lanes::splat(S::ZERO)));
-        let n = self.scale(inv);
+        let n = v.scale(inv);
         (Self::select(ok, n, Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero())), ok)
     }
     /// Component `axis` (0 = x, 1 = y, anything else = z) of every lane.

@@ -5,6 +5,7 @@ use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
+use crate::similarity::Similarity;
 use crate::vec3::{Vec3, Vec3xW};
 
 /// An axis-aligned box `[min, max]` (solid for visibility: a ray crosses its
@@ -16,6 +17,11 @@ pub struct AaBox<S> {
 }
 
 impl<S: Scalar> AaBox<S> {
+    /// The same box in the frame of `sim`, with scalar `T`.
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> AaBox<T> {
+        AaBox { min: sim.point(self.min), max: sim.point(self.max) }
+    }
+
     /// The box between two opposite corners, given in any order. A box may be
     /// flat (zero thickness along an axis); it is then a rectangle.
     pub fn new(a: Vec3<S>, b: Vec3<S>) -> Result<Self, GeometryError> {

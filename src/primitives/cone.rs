@@ -6,6 +6,7 @@ use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
+use crate::similarity::Similarity;
 use crate::vec3::{Vec3, Vec3xW};
 
 /// An open truncated cone (a cylinder when both radii are equal) from `base`
@@ -59,6 +60,22 @@ impl<S: Scalar> Cone<S> {
     /// Change of radius per unit of height, `(r_apex − r_base)/h`.
     pub fn slope(&self) -> S {
         self.slope
+    }
+
+    /// The same cone in the frame of `sim`, with scalar `T` (the slope has
+    /// no unit and stays).
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Cone<T> {
+        Cone {
+            base: sim.point(self.base),
+            apex: sim.point(self.apex),
+            base_radius: sim.length(self.base_radius),
+            apex_radius: sim.length(self.apex_radius),
+            u: sim.direction(self.u),
+            v: sim.direction(self.v),
+            w: sim.direction(self.w),
+            height: sim.length(self.height),
+            slope: T::from_f32(self.slope.to_f32()),
+        }
     }
 
     /// `(base, base radius, apex, apex radius)`.

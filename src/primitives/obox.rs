@@ -5,6 +5,7 @@ use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
+use crate::similarity::Similarity;
 use crate::vec3::{Vec3, Vec3xW};
 
 /// A box with its own axes `u`, `v`, `w = u × v`.
@@ -40,6 +41,19 @@ impl<S: Scalar> OrientedBox<S> {
         }
         let w = u.cross(v);
         Ok(OrientedBox { center, half, u, v, w })
+    }
+
+    /// The same box in the frame of `sim`, with scalar `T`.
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> OrientedBox<T> {
+        let [hx, hy, hz] = self.half.to_f32();
+        let s = sim.scale;
+        OrientedBox {
+            center: sim.point(self.center),
+            half: Vec3::from_f32(hx * s, hy * s, hz * s),
+            u: sim.direction(self.u),
+            v: sim.direction(self.v),
+            w: sim.direction(self.w),
+        }
     }
 
     /// Centre.

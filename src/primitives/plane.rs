@@ -4,6 +4,7 @@ use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
+use crate::similarity::Similarity;
 use crate::vec3::Vec3;
 
 /// An infinite plane, stored with a unit normal: `n·x + d = 0`.
@@ -48,6 +49,12 @@ impl<S: Scalar> Plane<S> {
             normal: n,
             d: -n.dot(point),
         })
+    }
+
+    /// The same plane in the frame of `sim`, with scalar `T`: with
+    /// `x = x'/s + o`, `n·x + d = 0` becomes `n·x' + s·(d + n·o) = 0`.
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Plane<T> {
+        Plane { normal: sim.direction(self.normal), d: T::from_f32(moved_offset(self.normal, self.d, sim)) }
     }
 
     /// Unit normal.
@@ -99,6 +106,14 @@ pub(crate) fn plane_crossing<S: Scalar, const W: usize>(
     let dist = ray.origin.dot_splat(n) + d;
     let t = (-dist).div_nonzero(denom);
     Roots::from_candidates(t, valid, t, Mask::splat(false), t_min, t_max)
+}
+
+/// The offset `d` of the plane `n·x + d = 0` (unit `n`) in the frame of
+/// `sim`: `s·(d + n·o)`, in `f32`.
+pub(crate) fn moved_offset<S: Scalar>(n: Vec3<S>, d: S, sim: &Similarity) -> f32 {
+    let [nx, ny, nz] = n.to_f32();
+    let [ox, oy, oz] = sim.origin;
+    (d.to_f32() + (nx * ox + ny * oy + nz * oz)) * sim.scale
 }
 
 #[cfg(test)]

@@ -11,11 +11,12 @@
 //! A polygon whose area is zero (collinear or repeated vertices, which real
 //! meshes contain) is kept, so primitive indices stay stable, but never hit.
 
-use super::plane::plane_crossing;
+use super::plane::{moved_offset, plane_crossing};
 use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
+use crate::similarity::Similarity;
 use crate::vec3::{Vec3, Vec3xW};
 
 /// A planar polygon (or patch) whose vertices are in a vertex pool.
@@ -46,6 +47,30 @@ fn lanes_axis<S: Scalar, const W: usize>(v: &Vec3xW<S, W>, axis: u8) -> Lanes<S,
 }
 
 impl<S: Scalar> Polygon<S> {
+    /// The same polygon in the frame of `sim`, with scalar `T`, over a pool
+    /// converted in the same order (positions by `sim`, normals unchanged).
+    /// Its shape flags are the original's (a similarity keeps them).
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Polygon<T> {
+        Polygon {
+            first: self.first,
+            count: self.count,
+            patch: self.patch,
+            convex: self.convex,
+            degenerate: self.degenerate,
+            axis_u: self.axis_u,
+            axis_v: self.axis_v,
+            ccw: self.ccw,
+            normal: sim.direction(self.normal),
+            d: T::from_f32(moved_offset(self.normal, self.d, sim)),
+        }
+    }
+
+    /// The same polygon over pool slots starting at `first` (a pool copied
+    /// elsewhere).
+    pub(crate) fn at_first(self, first: u32) -> Self {
+        Polygon { first, ..self }
+    }
+
     /// A polygon over `pool[first .. first + count]` (for a patch, the normals
     /// follow at `pool[first + count .. first + 2·count]`, already checked to
     /// be non-zero by the caller).

@@ -5,6 +5,7 @@ use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
+use crate::similarity::Similarity;
 use crate::vec3::{Vec3, Vec3xW};
 
 /// A quadric surface, optionally clipped to an axis-aligned box: only the part
@@ -41,6 +42,24 @@ impl<S: Scalar> Quadric<S> {
         }
         self.clip = Some((a.min_elem(b), a.max_elem(b)));
         Ok(self)
+    }
+
+    /// The same quadric in the frame of `sim`, with scalar `T`, computed in
+    /// `f32`. With `x = x'/s + o`, `Q(x) = 0` is multiplied through by `s²`
+    /// (same surface; the tracer normalizes gradients and roots do not
+    /// depend on a common factor): the quadratic coefficients stay, the
+    /// linear ones become `s·(∇Q(o)/2 · 2)` per axis (`G' = s(2A·oₓ + D·o_y +
+    /// E·o_z + G)`, and so on), and `J' = s²·Q(o)`.
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Quadric<T> {
+        let [a, b, c, d, e, f, g, h, i, j] = self.k.map(|v| v.to_f32());
+        let [x, y, z] = sim.origin;
+        let s = sim.scale;
+        let gx = 2.0 * a * x + d * y + e * z + g;
+        let gy = 2.0 * b * y + d * x + f * z + h;
+        let gz = 2.0 * c * z + e * x + f * y + i;
+        let q = a * x * x + b * y * y + c * z * z + d * x * y + e * x * z + f * y * z + g * x + h * y + i * z + j;
+        let k = [a, b, c, d, e, f, gx * s, gy * s, gz * s, q * s * s].map(T::from_f32);
+        Quadric { k, clip: self.clip.map(|(lo, hi)| (sim.point(lo), sim.point(hi))) }
     }
 
     /// The coefficients `[A, B, C, D, E, F, G, H, I, J]`.

@@ -5,6 +5,7 @@ use super::{AaBox, Cone, OrientedBox, Plane, Polygon, Quadric, Sphere};
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
+use crate::similarity::Similarity;
 use crate::vec3::{Vec3, Vec3xW};
 
 /// The kinds of primitive.
@@ -59,6 +60,21 @@ impl<S: Scalar> Shape<S> {
             Shape::OrientedBox(_) => ShapeKind::OrientedBox,
             Shape::Quadric(_) => ShapeKind::Quadric,
             Shape::Cone(_) => ShapeKind::Cone,
+        }
+    }
+
+    /// The same primitive in the frame of `sim`, with scalar `T` (see
+    /// [`crate::similarity`]); a polygon refers to the scene's vertex pool
+    /// converted in the same order.
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Shape<T> {
+        match self {
+            Shape::Sphere(s) => Shape::Sphere(s.similar(sim)),
+            Shape::Plane(p) => Shape::Plane(p.similar(sim)),
+            Shape::Polygon(p) => Shape::Polygon(p.similar(sim)),
+            Shape::AaBox(b) => Shape::AaBox(b.similar(sim)),
+            Shape::OrientedBox(b) => Shape::OrientedBox(b.similar(sim)),
+            Shape::Quadric(q) => Shape::Quadric(q.similar(sim)),
+            Shape::Cone(c) => Shape::Cone(c.similar(sim)),
         }
     }
 

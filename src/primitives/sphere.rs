@@ -4,6 +4,7 @@ use super::error::GeometryError;
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
+use crate::similarity::Similarity;
 use crate::vec3::{Vec3, Vec3xW};
 
 /// A sphere.
@@ -37,6 +38,13 @@ impl<S: Scalar> Sphere<S> {
     /// Radius.
     pub fn radius(&self) -> S {
         self.radius
+    }
+
+    /// The same sphere in the frame of `sim`, with scalar `T` (computed in
+    /// `f32`, then converted; see [`crate::similarity`]).
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Sphere<T> {
+        let r = self.radius.to_f32() * sim.scale;
+        Sphere { center: sim.point(self.center), radius: T::from_f32(r), radius2: T::from_f32(r * r) }
     }
 
     /// Crossings of each active ray with the sphere inside `(t_min, t_max)`.
