@@ -33,6 +33,7 @@ pub mod demo;
 #[cfg(feature = "embedded-graphics")]
 pub mod draw_target;
 pub mod fixed;
+pub mod fixed32;
 pub mod lanes;
 pub mod nff;
 pub mod output;
@@ -57,6 +58,7 @@ pub mod image;
 #[cfg(feature = "std")]
 pub use image::{Image, Options};
 pub use fixed::Fixed;
+pub use fixed32::Fixed32;
 pub use scalar::Scalar;
 
 /// The types most programs need.
