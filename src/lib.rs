@@ -37,6 +37,7 @@ pub mod fixed32;
 pub mod lanes;
 pub mod nff;
 pub mod output;
+pub mod pow;
 pub mod primitives;
 pub mod query;
 pub mod range;
