@@ -87,9 +87,6 @@ pub struct Camera<S> {
     sx_scale: S,
     /// `tan(vfov/2)`.
     sy_scale: S,
-    /// Image size as scalars.
-    w_s: S,
-    h_s: S,
     /// Units of the scene's description per unit of the frame the camera
     /// (and its scene) lives in: 1 unless the scene was brought into a
     /// small frame for a limited-range scalar ([`crate::similarity`]). The
@@ -126,8 +123,7 @@ impl<S: Scalar> Camera<S> {
         // converted once.
         let half = vfov_deg * (core::f32::consts::PI / 360.0);
         let tan_half = S::from_f32(libm::tanf(half));
-        let w_s = S::from_i32(width as i32);
-        let h_s = S::from_i32(height as i32);
+        let aspect = S::ratio(width, height);
         Ok(Camera {
             eye,
             forward,
@@ -135,10 +131,8 @@ impl<S: Scalar> Camera<S> {
             up,
             width,
             height,
-            sx_scale: tan_half * (w_s / h_s),
+            sx_scale: tan_half * aspect,
             sy_scale: tan_half,
-            w_s,
-            h_s,
             units: 1.0,
         })
     }
@@ -189,8 +183,11 @@ impl<S: Scalar> Camera<S> {
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn packet<const W: usize>(&self, x: u32, y: u32, clip: Rect) -> (RayPacket<S, W>, Mask<W>) {
         let (pw, _) = packet_shape(W);
-        let mut ci = Lanes::<S, W>::zero();
-        let mut cj = Lanes::<S, W>::zero();
+        // Screen coordinates of the pixel centres (see the module docs):
+        // `u = (2i + 1)/W` and `v = (2j + 1)/H` per lane (each the one
+        // rounded quotient of two integers), then lane arithmetic.
+        let mut u = Lanes::<S, W>::zero();
+        let mut v = Lanes::<S, W>::zero();
         let mut inside = Mask::<W>::splat(false);
         for l in 0..W {
             // Saturating: a pixel past u32::MAX is outside any image anyway.
@@ -205,17 +202,12 @@ impl<S: Scalar> Camera<S> {
             inside.set(l, inside_l);
             let i = if inside_l { i } else { 0 };
             let j = if inside_l { j } else { 0 };
-            ci.0[l] = S::from_i32(i as i32);
-            cj.0[l] = S::from_i32(j as i32);
+            u.0[l] = S::ratio(2 * i + 1, self.width);
+            v.0[l] = S::ratio(2 * j + 1, self.height);
         }
-        // Screen coordinates of the pixel centres (see the module docs), as
-        // lane arithmetic: the same operations per lane as one ray at a time,
-        // with one packed divide per axis instead of one divide per lane.
         let one = Lanes::splat(S::ONE);
-        let ci = ci * S::TWO + one;
-        let cj = cj * S::TWO + one;
-        let sx = (ci / Lanes::splat(self.w_s) - one) * self.sx_scale;
-        let sy = (one - cj / Lanes::splat(self.h_s)) * self.sy_scale;
+        let sx = (u - one) * self.sx_scale;
+        let sy = (one - v) * self.sy_scale;
         let dir = self.forward.splat::<W>() + self.right.splat::<W>().scale(sx) + self.up.splat::<W>().scale(sy);
         let (ray, ok) = RayPacket::new(self.eye.splat(), dir);
         (ray, ok & inside)

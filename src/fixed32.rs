@@ -126,6 +126,13 @@ const fn coordinate_limit_log2() -> i32 {
 /// documentation for the derivation).
 pub const COORDINATE_LIMIT: f32 = f32::from_bits(((127 + coordinate_limit_log2()) as u32) << 23);
 
+/// Largest coordinate magnitude of a light (see [`Scalar::LIGHT_LIMIT`]).
+pub const LIGHT_LIMIT: f32 = 100.0;
+
+/// Budget for a single kernel intermediate (quadric and cone discriminant
+/// terms, [`crate::range`]): half the range.
+pub const INTERMEDIATE_LIMIT: f32 = 64.0;
+
 /// A signed Q8.24 fixed-point number with 32-bit storage: the fast
 /// [`Scalar`] for FPU-less 32-bit targets.
 ///
@@ -796,7 +803,52 @@ impl Scalar for Fixed32 {
     const MIN_WEIGHT: Self = Fixed32(RAW_ONE >> 9);
     const LIMITED_RANGE: bool = true;
     const COORDINATE_LIMIT: f32 = COORDINATE_LIMIT;
-    const ISA_LEAVES: bool = false;
+    /// Lights only enter through directions and distances to them, which the
+    /// tracer forms without squaring large values (normalisation prescales:
+    /// [`Scalar::NORMALIZE_PRESCALE`]), so they may lie well outside the box:
+    /// a light–point difference then stays below `100 + 2`, inside the range.
+    const LIGHT_LIMIT: f32 = LIGHT_LIMIT;
+    const INTERMEDIATE_LIMIT: f32 = INTERMEDIATE_LIMIT;
+    /// Scenes are converted into the box `[−1, 1]³` (half the coordinate
+    /// limit, so values rounded on conversion stay inside the limit).
+    const SCENE_FRAME: Option<f32> = Some(1.0);
+    const NORMALIZE_PRESCALE: bool = true;
+
+    /// `2^k` for the `k` that brings `self` into `[½, 1)`, with `k` clamped to
+    /// `[−8, 6]` (so `2^k` is representable and a vector of components up to
+    /// the range's top comes down to below 1); 1 for zero. A multiplication
+    /// by it is a shift: exact for `k ≥ 0`, rounded once for `k < 0`.
+    #[inline]
+    fn normalizing_factor(self) -> Self {
+        let raw = self.0.max(0) as u32;
+        if raw == 0 {
+            return Self::ONE;
+        }
+        // Position of the top bit; [½, 1) has its top bit at FRAC − 1.
+        let top = 31 - raw.leading_zeros() as i32;
+        let k = (FRAC as i32 - 1 - top).clamp(-8, 6);
+        Fixed32(1 << (FRAC as i32 + k))
+    }
+    /// `round(clamp(v)·255)` (ties up) from the raw bits: `255` itself is not
+    /// representable in Q8.24, so the generic formula cannot be used.
+    #[inline]
+    fn to_unorm8(self) -> u8 {
+        let raw = self.0.clamp(0, RAW_ONE) as u32;
+        // raw·255 < 2³², and adding half an ulp of the result rounds.
+        ((raw * 255 + (1 << (FRAC - 1))) >> FRAC) as u8
+    }
+    /// `num / den` correctly rounded (ties away from zero) from the
+    /// integers, without forming `num` or `den` in the format (an image 512
+    /// pixels wide is beyond its range).
+    #[inline(never)]
+    fn ratio(num: u32, den: u32) -> Self {
+        if den == 0 {
+            return Self::MAX;
+        }
+        let (n, d) = ((num as u64) << FRAC, den as u64);
+        let q = (n + d / 2) / d;
+        Fixed32(q.min(RAW_MAX as u64) as i32)
+    }
 
     #[inline]
     fn from_f32(v: f32) -> Self {

@@ -30,12 +30,14 @@
 use crate::camera::{CameraError, Rect};
 use crate::dispatch::{self, Isa};
 use crate::fixed::Fixed;
+use crate::fixed32::Fixed32;
 use crate::nff::{self, NffCounts, NffError, NffInfo};
 use crate::query::{AccelChoice, Accelerator, BuildSettings, Bvh, BvhError, BvhStats};
 use crate::range::RangeError;
 use crate::render::{Aov, BufferTooSmall, Renderer, Rgb8};
 use crate::scalar::Scalar;
-use crate::scene::{Scene, SceneView};
+use crate::scene::{Scene, SceneError, SceneView};
+use crate::similarity::Similarity;
 use crate::trace::{Mode, RayStats, TraceError, TraceSettings, Tracer};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -69,8 +71,12 @@ pub enum ScalarKind {
     /// 32-bit IEEE float.
     #[default]
     F32,
-    /// 32.32 fixed point ([`Fixed`]).
+    /// 32.32 fixed point ([`Fixed`]): the accurate fixed-point reference.
     Fixed,
+    /// Q8.24 fixed point with 32-bit storage ([`Fixed32`]), for
+    /// processors without an FPU; the scene is converted into its small
+    /// frame at load time ([`crate::similarity`]).
+    Fixed32,
 }
 
 impl ScalarKind {
@@ -79,6 +85,7 @@ impl ScalarKind {
         match self {
             ScalarKind::F32 => "f32",
             ScalarKind::Fixed => "fixed",
+            ScalarKind::Fixed32 => "fixed32",
         }
     }
 }
@@ -151,6 +158,9 @@ pub enum Error {
     Camera(CameraError),
     /// The scene does not fit the fixed-point range.
     Range(RangeError),
+    /// The scene could not be converted into the fixed-point frame (a
+    /// light too far out, or a range error).
+    Convert(SceneError),
     /// The tracer was rejected (depth out of range).
     Trace(TraceError),
     /// The BVH did not fit.
@@ -172,6 +182,7 @@ impl core::fmt::Display for Error {
             Error::NoCamera => f.write_str("the scene has no `v` block (camera)"),
             Error::Camera(e) => e.fmt(f),
             Error::Range(e) => e.fmt(f),
+            Error::Convert(e) => write!(f, "in the fixed-point frame: {e}"),
             Error::Trace(e) => e.fmt(f),
             Error::Bvh(e) => e.fmt(f),
             Error::Packet(n) => write!(f, "packet width {n} is not one of 1, 4, 8, 16"),
@@ -188,6 +199,7 @@ impl std::error::Error for Error {
             Error::Scene(e) => Some(e),
             Error::Camera(e) => Some(e),
             Error::Range(e) => Some(e),
+            Error::Convert(e) => Some(e),
             Error::Trace(e) => Some(e),
             Error::Bvh(e) => Some(e),
             Error::Thread(e) => Some(e),
@@ -269,6 +281,9 @@ struct Loaded<'a, S> {
     view: SceneView<'a, S>,
     accel: AccelChoice<'a, S>,
     info: SceneInfo,
+    /// The frame the scene was converted into (the identity unless the
+    /// scalar asks for one: [`Scalar::SCENE_FRAME`]).
+    frame: Similarity,
 }
 
 impl<S: Scalar> LoadedScene for Loaded<'_, S> {
@@ -283,7 +298,11 @@ impl<S: Scalar> LoadedScene for Loaded<'_, S> {
     fn render(&self, options: &Options, progress: &(dyn Fn() + Sync)) -> Result<Image, Error> {
         let cam = self.info.nff.camera.ok_or(Error::NoCamera)?;
         let (width, height) = image_size(options.width, options.height, (cam.width, cam.height));
-        let camera = cam.camera::<S>(width, height).map_err(Error::Camera)?;
+        let camera = match S::SCENE_FRAME {
+            None => cam.camera::<S>(width, height),
+            Some(_) => cam.camera_in::<S>(&self.frame, width, height),
+        }
+        .map_err(Error::Camera)?;
         // Fixed point: the whole scene must fit its range (a no-op for f32).
         self.view.check_range(camera.eye()).map_err(Error::Range)?;
         let settings = TraceSettings { mode: options.mode, max_depth: options.depth, ..TraceSettings::default() };
@@ -339,6 +358,7 @@ pub fn with_scene<T: Send>(text: &str, scalar: ScalarKind, accel: AccelKind, f: 
     match scalar {
         ScalarKind::F32 => with_tier::<f32, T>(text, scalar, accel, f),
         ScalarKind::Fixed => with_tier::<Fixed, T>(text, scalar, accel, f),
+        ScalarKind::Fixed32 => with_tier::<Fixed32, T>(text, scalar, accel, f),
     }
 }
 
@@ -365,25 +385,43 @@ fn load_in<S: Scalar, const P: usize, const V: usize, const M: usize, const L: u
     accel: bool,
     f: impl FnOnce(&dyn LoadedScene) -> T + Send,
 ) -> Result<T, Error> {
-    // Twice the scene (and tree): an unoptimized build may build them in a
-    // temporary first.
+    // Twice the scenes (and tree): an unoptimized build may build them in a
+    // temporary first. Scalars with a frame read the file in f32 first.
     let tree = if accel { std::mem::size_of::<Bvh<S, P>>() } else { 0 };
-    let stack = 2 * (std::mem::size_of::<Scene<S, P, V, M, L>>() + tree) + (32 << 20);
+    let described = if S::SCENE_FRAME.is_some() { std::mem::size_of::<Scene<f32, P, V, M, L>>() } else { 0 };
+    let stack = 2 * (std::mem::size_of::<Scene<S, P, V, M, L>>() + described + tree) + (32 << 20);
     std::thread::scope(|s| {
         let worker = std::thread::Builder::new().name("raypack-scene".into()).stack_size(stack).spawn_scoped(s, move || {
             let mut scene = Scene::<S, P, V, M, L>::new();
-            let nff = nff::parse(text, &mut scene).map_err(Error::Scene)?;
+            let (nff, frame) = match S::SCENE_FRAME {
+                None => (nff::parse(text, &mut scene).map_err(Error::Scene)?, Similarity::IDENTITY),
+                Some(half) => {
+                    // Read in f32, in the file's units, then convert into
+                    // the scalar's frame: the box of the bounded primitives
+                    // and the eye, centred, its largest half-extent `half`.
+                    let mut described = Scene::<f32, P, V, M, L>::new();
+                    let nff = nff::parse(text, &mut described).map_err(Error::Scene)?;
+                    let eye = nff.camera.map(|c| crate::vec3::Vec3::new(c.from[0], c.from[1], c.from[2]));
+                    let frame = described.view().fitting_frame(eye, half);
+                    scene.add_similar(&described.view(), &frame).map_err(Error::Convert)?;
+                    (nff, frame)
+                }
+            };
             let mut info = SceneInfo { nff, degenerate: scene.degenerate_polygons(), capacity: (P, V, M, L), bvh: None, scalar };
             if !accel {
-                return Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::BruteForce, info }));
+                return Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::BruteForce, info, frame }));
             }
             let mut bvh = Bvh::<S, P>::new();
-            // Pad the boxes for rays that start as far out as the eye.
-            let reach = nff.camera.map_or(0.0, |c| c.from.iter().fold(0.0f32, |m, v| m.max(v.abs())));
+            // Pad the boxes for rays that start as far out as the eye (in
+            // the scene's frame).
+            let reach = nff.camera.map_or(0.0, |c| {
+                let e: crate::vec3::Vec3<f32> = frame.point(crate::vec3::Vec3::new(c.from[0], c.from[1], c.from[2]));
+                e.max_abs()
+            });
             let start = Instant::now();
             let stats = bvh.build_with(&scene.view(), &BuildSettings { reach, ..BuildSettings::default() }).map_err(Error::Bvh)?;
             info.bvh = Some((stats, start.elapsed()));
-            Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::Bvh(bvh.view()), info }))
+            Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::Bvh(bvh.view()), info, frame }))
         });
         match worker {
             Ok(handle) => handle.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),

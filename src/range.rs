@@ -128,11 +128,14 @@ fn disc_bound(a: f32, b: f32, c: f32) -> f32 {
 /// discriminant terms) for rays with unit directions starting anywhere with
 /// coordinates `|oᵢ| ≤ r`; 0 for every other shape.
 ///
-/// - quadric, `Σ` of `A..F` = `Q₂`, of `G..I` = `Q₁`: `|a| ≤ Q₂`,
-///   `|b| ≤ 2Q₂R + Q₁`, `|c| ≤ Q₂R² + Q₁R + |J|`;
-/// - cone (local origin `|o| ≤ 2√3·R`, slope `k`, base radius `r_b`):
-///   `r(o) ≤ |o|·|k| + r_b`, `|a| ≤ 1 + k²`, `|b| ≤ 2|o| + r(o)·|k|`,
-///   `|c| ≤ 2|o|² + r(o)²`.
+/// - quadric (full-`b` form `b² − 4ac`), `Σ` of `A..F` = `Q₂`, of `G..I` =
+///   `Q₁`: `|a| ≤ Q₂`, `|b| ≤ 2Q₂R + Q₁`, `|c| ≤ Q₂R² + Q₁R + |J|`; the
+///   bound is `b² + 4|a||c|`;
+/// - cone (half-`b` form `b'² − ac`, in its local frame: origin
+///   `|o| ≤ O = 2√3·R`, slope `k`, base radius `r_b`, so
+///   `|r(o)| ≤ r_b + |k|·O`): `|a| ≤ 1 + k²`, `|b'| ≤ O + |k|·|r(o)|`
+///   (Cauchy–Schwarz with a unit direction), `|c| ≤ O² + r(o)²`; the bound
+///   is `b'² + |a||c|`.
 pub fn intermediate_bound<S: Scalar>(shape: &Shape<S>, r: f32) -> f32 {
     match shape {
         Shape::Quadric(q) => {
@@ -143,10 +146,11 @@ pub fn intermediate_bound<S: Scalar>(shape: &Shape<S>, r: f32) -> f32 {
         }
         Shape::Cone(cone) => {
             let o = 2.0 * libm::sqrtf(3.0) * r;
-            let slope = cone.slope().abs().to_f32();
+            let k = cone.slope().abs().to_f32();
             let (_, rb, _, _) = cone.ends();
-            let ro = o * slope + rb.to_f32();
-            disc_bound(1.0 + slope * slope, 2.0 * o + ro * slope, 2.0 * o * o + ro * ro)
+            let ro = rb.to_f32() + k * o;
+            let b = o + k * ro;
+            b * b + (1.0 + k * k) * (o * o + ro * ro)
         }
         _ => 0.0,
     }
@@ -206,7 +210,7 @@ mod tests {
         // Cones: a steep slope scales the intermediates by k⁴.
         let gentle = Shape::Cone(Cone::new(v::<Fixed>(0.0, 0.0, 0.0), Fixed::ONE, v(0.0, 0.0, 1.0), Fixed::HALF).unwrap());
         assert_eq!(check_intermediates(&gentle, 10.0, 0), Ok(()));
-        let steep = Shape::Cone(Cone::new(v::<Fixed>(0.0, 0.0, 0.0), Fixed::from_f32(100.0), v(0.0, 0.0, 0.01), Fixed::ZERO).unwrap());
+        let steep = Shape::Cone(Cone::new(v::<Fixed>(0.0, 0.0, 0.0), Fixed::from_f32(1000.0), v(0.0, 0.0, 0.01), Fixed::ZERO).unwrap());
         assert_eq!(check_intermediates(&steep, 10.0, 1).unwrap_err().item, RangeItem::Intermediate(1));
         // f32 has no limit.
         let q = Shape::Quadric(Quadric::ellipsoid(v::<f32>(0.0, 0.0, 0.0), v(0.3, 0.3, 0.3)).unwrap());

@@ -79,6 +79,12 @@ pub trait Scalar:
     /// little from them).
     const PACKED: bool = false;
 
+    /// The half-extent of the box a scene is converted into before tracing
+    /// with this type ([`crate::similarity`]: the scene's bounded
+    /// primitives and the eye, centred, scaled uniformly), or `None` to
+    /// trace scenes in their own units. `None` for `f32` and 32.32 fixed
+    /// point; the Q8.24 fixed point needs the small box for its range.
+    const SCENE_FRAME: Option<f32> = None;
     /// Whether vectors are brought to a magnitude near 1 before they are
     /// normalized ([`Scalar::normalizing_factor`]): for fixed point, whose
     /// squares overflow for long vectors and lose their digits for short
@@ -91,6 +97,15 @@ pub trait Scalar:
     #[inline(always)]
     fn normalizing_factor(self) -> Self {
         Self::ONE
+    }
+
+    /// `num / den` for image coordinates (the camera's pixel centres:
+    /// `(2i + 1)/W`), `den > 0`. The default divides the two numbers in the
+    /// type, which is exact for `f32` and 32.32; a type whose range does
+    /// not hold image sizes overrides it.
+    #[inline(always)]
+    fn ratio(num: u32, den: u32) -> Self {
+        Self::from_i32(num as i32) / Self::from_i32(den as i32)
     }
 
     /// Converts from `f32` (set-up time only: scene input, camera angles).

@@ -543,6 +543,29 @@ impl<'a, S: Scalar> SceneView<'a, S> {
             .reduce(|(a, b), (c, d)| (a.min_elem(c), b.max_elem(d)))
     }
 
+    /// The frame a limited-range scalar traces this scene in
+    /// ([`Scalar::SCENE_FRAME`] gives `half`): the box around the bounded
+    /// primitives and `eye`, centred on the origin, its largest half-extent
+    /// scaled to `half`. Lights and unbounded primitives may lie outside.
+    pub fn fitting_frame(&self, eye: Option<Vec3<S>>, half: f32) -> Similarity {
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        let mut grow = |p: [f32; 3]| {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        };
+        if let Some((a, b)) = self.bounds() {
+            grow(a.to_f32());
+            grow(b.to_f32());
+        }
+        if let Some(e) = eye {
+            grow(e.to_f32());
+        }
+        Similarity::fitting(lo, hi, half)
+    }
+
     /// The transmission weight `Kt` of material `m` (0, opaque, for a
     /// material the view lacks).
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
@@ -551,12 +574,13 @@ impl<'a, S: Scalar> SceneView<'a, S> {
     }
 
     /// The whole-scene range check for limited-range scalars (fixed point),
-    /// for rays starting at `eye` (the camera's): every coordinate (eye,
-    /// lights, primitives) within [`Scalar::COORDINATE_LIMIT`], and every
-    /// quadric's and cone's intersection intermediates within
-    /// [`Scalar::INTERMEDIATE_LIMIT`] for ray origins anywhere in the
-    /// scene's extent `R` (the largest coordinate magnitude, at least 1;
-    /// see [`range::intermediate_bound`]). Returns `R`; always `Ok` for
+    /// for rays starting at `eye` (the camera's): every coordinate (eye and
+    /// primitives) within [`Scalar::COORDINATE_LIMIT`], lights within
+    /// [`Scalar::LIGHT_LIMIT`], and every quadric's and cone's intersection
+    /// intermediates within [`Scalar::INTERMEDIATE_LIMIT`] for ray origins
+    /// anywhere in the scene's extent `R` (the largest coordinate magnitude
+    /// of the eye and the primitives, at least 1; see
+    /// [`range::intermediate_bound`]). Returns `R`; always `Ok` for
     /// `f32`. `Scene::add_*` already checks each item's coordinates; this
     /// adds what depends on the whole scene.
     pub fn check_range(&self, eye: Vec3<S>) -> Result<f32, RangeError> {
@@ -565,9 +589,10 @@ impl<'a, S: Scalar> SceneView<'a, S> {
         }
         range::check_point(eye, RangeItem::Camera)?;
         let mut extent = range::magnitude(eye);
+        // Lights are checked, but are no ray origins: they do not widen the
+        // extent the intermediates are bounded for.
         for (k, light) in (0u32..).zip(self.lights.iter()) {
             range::check_point(light.position, RangeItem::Light(k))?;
-            extent = extent.max(range::magnitude(light.position));
         }
         for (k, p) in (0u32..).zip(self.prims.iter()) {
             range::check_shape(&p.shape, self.verts, k)?;

@@ -308,10 +308,25 @@ impl<S: Scalar> Polygon<S> {
         }
         let (iu, iv) = (self.axis_u as usize, self.axis_v as usize);
         let n = verts.len();
+        // Fixed point: a common power-of-two factor brings the vertex offsets
+        // near 1, so their products keep their digits; the weights below are
+        // ratios of degree-2 terms divided by a length, so a common factor
+        // scales every weight alike and the normalized result is unchanged.
+        let f = if S::NORMALIZE_PRESCALE {
+            let m = verts.iter().fold(S::ZERO, |m, v| m.max((v.axis(iu) - p.axis(iu)).abs()).max((v.axis(iv) - p.axis(iv)).abs()));
+            m.normalizing_factor()
+        } else {
+            S::ONE
+        };
         // s_i: vertex i relative to p; r_i: its length.
         let s = |i: usize| {
             let v = verts[i % n];
-            (v.axis(iu) - p.axis(iu), v.axis(iv) - p.axis(iv))
+            let d = (v.axis(iu) - p.axis(iu), v.axis(iv) - p.axis(iv));
+            if S::NORMALIZE_PRESCALE {
+                (d.0 * f, d.1 * f)
+            } else {
+                d
+            }
         };
         let len = |a: (S, S)| (a.0 * a.0 + a.1 * a.1).sqrt();
         // tan(α_i / 2) for the angle at p subtended by edge (i, i+1):

@@ -46,6 +46,7 @@ impl<S: Scalar> Quadric<S> {
 
     /// The same quadric in the frame of `sim`, with scalar `T`, computed in
     /// `f32`. With `x = x'/s + o`, `Q(x) = 0` is multiplied through by `s²`
+    /// (and then by `1/max(|A|..|F|)`)
     /// (same surface; the tracer normalizes gradients and roots do not
     /// depend on a common factor): the quadratic coefficients stay, the
     /// linear ones become `s·(∇Q(o)/2 · 2)` per axis (`G' = s(2A·oₓ + D·o_y +
@@ -58,7 +59,12 @@ impl<S: Scalar> Quadric<S> {
         let gy = 2.0 * b * y + d * x + f * z + h;
         let gz = 2.0 * c * z + e * x + f * y + i;
         let q = a * x * x + b * y * y + c * z * z + d * x * y + e * x * z + f * y * z + g * x + h * y + i * z + j;
-        let k = [a, b, c, d, e, f, gx * s, gy * s, gz * s, q * s * s].map(T::from_f32);
+        // The surface does not change when every coefficient is divided by
+        // the same number: the largest of `A..F` becomes 1, so a
+        // limited-range scalar's intermediates stay small.
+        let m = [a, b, c, d, e, f].iter().fold(0.0f32, |m, v| m.max(v.abs()));
+        let norm = if m > 0.0 && m.is_finite() { 1.0 / m } else { 1.0 };
+        let k = [a, b, c, d, e, f, gx * s, gy * s, gz * s, q * s * s].map(|v| T::from_f32(v * norm));
         Quadric { k, clip: self.clip.map(|(lo, hi)| (sim.point(lo), sim.point(hi))) }
     }
 

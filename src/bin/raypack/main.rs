@@ -44,8 +44,10 @@ enum Command {
 enum ScalarArg {
     /// 32-bit IEEE float.
     F32,
-    /// 32.32 fixed point (`raypack::Fixed`).
+    /// 32.32 fixed point (`raypack::Fixed`): the accurate fixed-point reference, slow.
     Fixed,
+    /// Q8.24 fixed point with 32-bit storage (`raypack::Fixed32`): what FPU-less firmware runs.
+    Fixed32,
 }
 
 /// Packet width: rays traced together.
@@ -96,6 +98,7 @@ impl ScalarArg {
         match self {
             ScalarArg::F32 => ScalarKind::F32,
             ScalarArg::Fixed => ScalarKind::Fixed,
+            ScalarArg::Fixed32 => ScalarKind::Fixed32,
         }
     }
 }
