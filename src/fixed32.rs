@@ -38,13 +38,17 @@
 //!   both on the host against each other and against an exact reference.
 //! - `÷`: `a·2^FRAC / b` correctly rounded, ties away from zero,
 //!   saturating; `x / 0` is `MAX` for `x > 0`, `−MAX` for `x < 0`, and `0`
-//!   for `0 / 0`. No hardware or library divide: the divisor is normalised
-//!   (software leading-zero count), a 16-bit reciprocal of its top half
-//!   comes from a linear seed and two Newton–Raphson steps in 32-bit
-//!   arithmetic (checked for all 2¹⁵ inputs), and schoolbook division in
-//!   base 2¹⁶ produces the quotient's two digits, each estimated from below
-//!   with 16×32-bit products and raised by the exact remainder (one or two
-//!   steps); the final remainder rounds.
+//!   for `0 / 0`. No 64-bit library division: the divisor is normalised
+//!   (software leading-zero count) and the resulting two-word by one-word
+//!   division, whose remainder gives the exact rounding, is done per target
+//!   with the same exact result (tested against each other): the native
+//!   `u64` division on 64-bit hosts; two 32/32-bit hardware divisions
+//!   (Knuth's algorithm D on 16-bit digits) on RV32IMAC and Armv7-M; and on
+//!   Armv6-M, which has no divide instruction, schoolbook division in base
+//!   2¹⁶ with a 16-bit reciprocal of the divisor's top half (a linear seed
+//!   and two Newton–Raphson steps in 32-bit arithmetic, checked for all 2¹⁵
+//!   inputs): each quotient digit is estimated from below with 16×32-bit
+//!   products and raised by the exact remainder (one or two steps).
 //! - `sqrt`: correctly rounded `√(raw·2^FRAC)` (the integer square root of a
 //!   55-bit number, rounded to nearest; no ties exist); negative input gives
 //!   0. A reciprocal square root from a 24-byte table and two Newton steps
@@ -63,29 +67,36 @@
 //!   from the bit pattern alone (integer shifts; no float arithmetic, so
 //!   firmware links no soft-float routine for it).
 //!
-//! # Cost on a Cortex-M0
-//! Executed instructions per operation, measured under QEMU's `microbit`
-//! (`qemu-system-arm -M microbit -cpu cortex-m0 -icount shift=0`, so the
-//! SysTick counts instructions) by a scratch firmware (not in the
-//! repository) that calls each operation through a function pointer on 2048
+//! # Cost on a Cortex-M0 and on RV32IMAC
+//! Executed instructions per operation, measured under QEMU
+//! (`qemu-system-arm -M microbit -cpu cortex-m0 -icount shift=0`, where the
+//! SysTick then counts instructions, and `qemu-system-riscv32 -M virt
+//! -icount shift=0`, reading `minstret`) by a scratch firmware, not in the
+//! repository, that calls each operation through a function pointer on 2048
 //! seeded operand pairs (`a ∈ [−4, 4]`, `b ∈ [0.05, 4]`; `powf`: `x ∈ [0, 1)`,
-//! `e ∈ [1, 100]`) and subtracts the same loop around an identity function:
-//! the figures include a call's own cost (about 6 instructions). Code sizes
-//! are `llvm-nm --size-sort -S` of the same release build (opt-level 3, fat
-//! LTO, as `targets/` builds firmware; Rust 1.95):
+//! `e ∈ [1, 100]`) and subtracts the same loop around an identity function,
+//! so the figures include the cost of a call (about 6 instructions).
+//! Release build with fat LTO as `targets/` builds firmware (Rust 1.95):
 //!
-//! | operation | `Fixed32` (instructions) | size (bytes) | soft-float `f32` (instructions) | size (bytes) | 32.32 `Fixed` (instructions) |
+//! | operation | M0 `Fixed32` | M0 soft-float `f32` | M0 32.32 `Fixed` | RV32 `Fixed32` | RV32 soft-float `f32` |
 //! |-----------|------:|------:|------:|------:|------:|
-//! | `+`       | 9     | inlined, 10 | 115 (`__addsf3`) | 504 | 35 |
-//! | `×`       | 50    | inlined, ≈ 80 | 112 (`__mulsf3`, `__aeabi_lmul`) | 416 + 74 | 350 |
-//! | `÷`       | 193   | 536   | 175 (`__divsf3`) | 528 | 3552 |
-//! | `sqrt`    | 119   | 428 + 24 | 419 (`libm::sqrtf`) | 284 + 256 | 4016 |
-//! | `powf`    | 328   | 1084 + 56 | 10138 (`libm::powf`); 4367 ([`crate::pow::powf_unit`] in soft-float) | ≈ 1800 | 9960 |
-//! | `from_f32`| 31    | ≈ 120 | — | — | — |
+//! | `+`       | 9     | 115   | 35    | 10    | 79    |
+//! | `×`       | 50    | 112   | 350   | 26    | 51    |
+//! | `÷`       | 193   | 175   | 3552  | 100   | 98    |
+//! | `sqrt`    | 119   | 419 (`libm::sqrtf`) | 4016 | 97 | 124 |
+//! | `powf`    | 328   | 10138 (`libm::powf`), 4367 ([`crate::pow::powf_unit`]) | 9960 | 267 | 5781, 2395 |
+//! | `from_f32`| 31    | —     | —     | 26    | —     |
 //!
-//! The quotient needs 31 correct bits where an `f32` quotient needs 24,
-//! which is why `÷` alone does not beat soft-float; products and sums,
-//! which dominate a ray tracer, are 2× and 12× cheaper.
+//! Code sizes on the M0 (`llvm-nm --size-sort -S`, bytes): `+` inlined,
+//! 10; `×` inlined, about 80; `÷` 532; `sqrt` 428 + 24 (table); `powf`
+//! 1084 + 56 (table). Soft-float: `__addsf3` 504, `__mulsf3` 416 (+ 74 for
+//! `__aeabi_lmul`), `__divsf3` 528, `libm::sqrtf` 284 + 256 (table).
+//!
+//! A quotient needs 31 correct bits where an `f32` quotient needs 24, which
+//! is why `÷` alone does not beat soft-float; the sums and products that
+//! dominate a ray tracer are 2–12× cheaper. Every operation links without
+//! a reachable panic on thumbv6m, thumbv7em and riscv32imac, also with
+//! overflow checks on (checked with a `panic-never`-style link).
 
 use crate::scalar::Scalar;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -361,7 +372,8 @@ fn wmul(a: u32, b: u32) -> u64 {
 /// product is all the reciprocal and root refinements need).
 #[inline(always)]
 fn mul16x32(w: u32, d: u32) -> u64 {
-    (((w * (d >> 16)) as u64) << 16) + (w * (d & 0xFFFF)) as u64
+    // (Wrapping only to spare overflow checks: w < 2¹⁶ keeps both exact.)
+    ((w.wrapping_mul(d >> 16) as u64) << 16) + w.wrapping_mul(d & 0xFFFF) as u64
 }
 
 /// The portable product: `⌊(a·b + 2^(FRAC−1)) / 2^FRAC⌋` from one exact
@@ -431,11 +443,11 @@ fn mul_raw_limbs(a: i32, b: i32) -> i32 {
 /// down, so `W` stays a lower bound.
 #[inline(always)]
 fn reciprocal16(dh: u32) -> u32 {
-    let mut w = 185_042 - ((dh * 61_681) >> 15);
+    let mut w = 185_042u32.wrapping_sub(dh.wrapping_mul(61_681) >> 15);
     let mut k = 0;
     while k < 2 {
         let e = dh.wrapping_mul(w).wrapping_neg() as i32;
-        w = w.wrapping_add(((((w >> 1) as i32) * (e >> 15)) >> 16) as u32);
+        w = w.wrapping_add((((w >> 1) as i32).wrapping_mul(e >> 15) >> 16) as u32);
         k += 1;
     }
     // W may fall just below 2¹⁶ for dh = 2¹⁶ (where 2³²/dh = 2¹⁶): clamp.
@@ -446,22 +458,136 @@ fn reciprocal16(dh: u32) -> u32 {
 /// 16×16 products.
 #[inline(always)]
 fn mul_recip(m: u32, wl: u32) -> u32 {
-    ((((m as u64) << 16) + mul16x32(wl, m)) >> 32) as u32
+    ((((m as u64) << 16).wrapping_add(mul16x32(wl, m))) >> 32) as u32
+}
+
+// The two-word division `(u1·2³² + u0)/d` (normalised `d ≥ 2³¹`, `u1 < d`,
+// quotient below 2³²) has three implementations with the same exact result,
+// chosen per target and tested against each other on the host:
+// - 64-bit targets: the native `u64` division (one instruction);
+// - 32-bit targets with a 32-bit hardware divide (RV32 with the M extension,
+//   Armv7-M and later): two 32/32-bit divisions (Knuth's algorithm D with
+//   16-bit digits, as in Hacker's Delight's `divlu`);
+// - 32-bit targets without one (Armv6-M, RV32 without M): two 16-bit digits
+//   from a 16-bit reciprocal (no division at all).
+
+/// The exact `(⌊n/d⌋, n mod d)` of `n = u1·2³² + u0`, by the native `u64`
+/// division.
+#[inline(always)]
+#[cfg_attr(not(target_pointer_width = "64"), allow(dead_code))]
+fn div_words_native(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    let n = ((u1 as u64) << 32) | u0 as u64;
+    ((n / d as u64) as u32, (n % d as u64) as u32)
+}
+
+/// The same with two 32/32-bit hardware divisions: each 16-bit quotient
+/// digit is first estimated from the divisor's top half (at most two too
+/// large, as `d` is normalised) and lowered while the next digit shows it is
+/// too large (the test `q·d_lo > r̂·2¹⁶ + next digit` of algorithm D).
+#[inline(always)]
+#[allow(dead_code)]
+fn div_words_hw32(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    const B: u32 = 1 << 16;
+    // d ≥ 2³¹, so its top half is nonzero; `NonZeroU32` lets the compiler
+    // drop the divide-by-zero panic (the `None` arm is unreachable).
+    let Some(dh_nz) = core::num::NonZeroU32::new(d >> 16) else {
+        return (0, 0);
+    };
+    let (dh, dl) = (dh_nz.get(), d & 0xFFFF);
+    let (n1, n0) = (u0 >> 16, u0 & 0xFFFF);
+    // High digit from u1 (< d, so the digit is below 2¹⁶ once corrected);
+    // r̂ < 2¹⁶ inside the loop, so r̂·2¹⁶ + n1 cannot overflow. (All steps
+    // are exact; the wrapping forms only spare unprovable overflow checks.)
+    let mut q1 = u1 / dh_nz;
+    let mut rhat = u1.wrapping_sub(q1.wrapping_mul(dh));
+    while q1 >= B || q1.wrapping_mul(dl) > (rhat << 16).wrapping_add(n1) {
+        q1 = q1.wrapping_sub(1);
+        rhat = rhat.wrapping_add(dh);
+        if rhat >= B {
+            break;
+        }
+    }
+    // The partial remainder is below d: exact modulo 2³².
+    let u21 = (u1 << 16).wrapping_add(n1).wrapping_sub(q1.wrapping_mul(d));
+    let mut q0 = u21 / dh_nz;
+    let mut rhat = u21.wrapping_sub(q0.wrapping_mul(dh));
+    while q0 >= B || q0.wrapping_mul(dl) > (rhat << 16).wrapping_add(n0) {
+        q0 = q0.wrapping_sub(1);
+        rhat = rhat.wrapping_add(dh);
+        if rhat >= B {
+            break;
+        }
+    }
+    let r = (u21 << 16).wrapping_add(n0).wrapping_sub(q0.wrapping_mul(d));
+    ((q1 << 16).wrapping_add(q0), r)
+}
+
+/// The same without any division: schoolbook in base 2¹⁶ with the 16-bit
+/// reciprocal of `d`'s top half. Each digit is estimated from below (never
+/// too large, so the remainder never goes negative) from a 16×32 product and
+/// raised by the exact remainder, one or two steps at most.
+#[inline(always)]
+#[allow(dead_code)]
+fn div_words_reciprocal(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    let n = ((u1 as u64) << 32) | u0 as u64;
+    // 1/d ≈ W/2⁴⁸ from below, with dh = ⌈d/2¹⁶⌉ (d ≥ 2¹⁶·(dh − 1) + 1).
+    let wl = reciprocal16((d >> 16) + 1);
+    let d16 = (d as u64) << 16;
+    // (Every step below is exact by the bounds stated; the wrapping forms
+    // only spare overflow checks that LLVM cannot discharge.)
+    // High digit: q1 = ⌊n/(d·2¹⁶)⌋ < 2¹⁶ (u1 < d), estimated as
+    // ⌊u1·W/2³²⌋ ≤ u1·2¹⁶/d ≤ n/(d·2¹⁶); the remainder n − q1·d·2¹⁶ then
+    // stays ≥ 0 and ends below d·2¹⁶ < 2⁴⁸.
+    let mut q1 = mul_recip(u1, wl);
+    let mut n1 = n.wrapping_sub(mul16x32(q1, d) << 16);
+    while n1 >= d16 {
+        n1 = n1.wrapping_sub(d16);
+        q1 = q1.wrapping_add(1);
+    }
+    // Low digit: q0 = ⌊n1/d⌋ < 2¹⁶ from the top 32 bits of n1, likewise.
+    let mut q0 = mul_recip((n1 >> 16) as u32, wl);
+    let mut r = n1.wrapping_sub(mul16x32(q0, d));
+    while r >= d as u64 {
+        r = r.wrapping_sub(d as u64);
+        q0 = q0.wrapping_add(1);
+    }
+    ((q1 << 16).wrapping_add(q0), r as u32)
+}
+
+/// The two-word division of this target (see above).
+#[inline(always)]
+fn div_words(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    #[cfg(target_pointer_width = "64")]
+    {
+        div_words_native(u1, u0, d)
+    }
+    #[cfg(all(
+        not(target_pointer_width = "64"),
+        any(all(target_arch = "arm", not(target_has_atomic = "32")), all(target_arch = "riscv32", not(target_feature = "m")))
+    ))]
+    {
+        div_words_reciprocal(u1, u0, d)
+    }
+    #[cfg(all(
+        not(target_pointer_width = "64"),
+        not(any(all(target_arch = "arm", not(target_has_atomic = "32")), all(target_arch = "riscv32", not(target_feature = "m"))))
+    ))]
+    {
+        div_words_hw32(u1, u0, d)
+    }
 }
 
 /// `a·2^FRAC / b` rounded to nearest (ties away from zero), saturating; see
-/// [`Fixed32`]'s `Div` for the zero-divisor results.
+/// [`Fixed32`]'s `Div` for the zero-divisor results. `words` is the
+/// two-word division (a parameter so that the tests can run every variant).
 ///
-/// Why this route: Armv6-M has no divide instruction, and a 64-bit
-/// division is a long library loop there (`__aeabi_uldivmod`). Schoolbook
-/// division in base 2¹⁶ needs only a 16-bit reciprocal of the divisor's top
-/// half (a linear seed and two Newton steps in 32-bit arithmetic) and 16×32
-/// products: each of the quotient's two digits is estimated from below
-/// (never too large, so the remainder never goes negative) and raised by
-/// the exact remainder, one or two steps at most. No table, no 32×32→64
-/// product. The remainder also gives the exact rounding.
+/// Why this route: normalising the divisor turns the 55-by-31-bit division
+/// into a two-word by one-word division with a quotient below 2³¹, which
+/// every target can do exactly without a 64-bit library division (a long
+/// loop on 32-bit cores: `__aeabi_uldivmod`, `__udivdi3`); its remainder
+/// gives the exact rounding.
 #[inline(always)]
-fn div_raw(a: i32, b: i32) -> i32 {
+fn div_raw_with(a: i32, b: i32, words: impl Fn(u32, u32, u32) -> (u32, u32)) -> i32 {
     let neg = (a ^ b) < 0;
     let sat = if neg { RAW_MIN } else { RAW_MAX };
     if b == 0 {
@@ -474,44 +600,30 @@ fn div_raw(a: i32, b: i32) -> i32 {
         return sat;
     }
     // Normalise: d = y·2^s ∈ [2³¹, 2³²). The numerator N = x·2^(FRAC+s) then
-    // satisfies N < 2³¹·d (from x < 2^(31−FRAC)·y), so the quotient
-    // ⌊N/d⌋ = ⌊x·2^FRAC/y⌋ is below 2³¹: a 15-bit and a 16-bit digit. Only
-    // 32-bit shifts: a variable 64-bit shift is a library call on Armv6-M.
+    // satisfies N < 2³¹·d (from x < 2^(31−FRAC)·y), so its high word is
+    // below d and ⌊N/d⌋ = ⌊x·2^FRAC/y⌋ < 2³¹. Only 32-bit shifts: a
+    // variable 64-bit shift is a library call on Armv6-M.
     let s = clz(y);
-    let d = y << s;
+    let d = y.wrapping_shl(s);
     let k = FRAC + s; // ∈ [FRAC, FRAC + 31]
-    let (u1, u0) = if k >= 32 { (x << (k - 32), 0) } else { (x >> (32 - k), x << k) };
-    let n = ((u1 as u64) << 32) | u0 as u64;
-    // 1/d ≈ W/2⁴⁸ from below, with dh = ⌈d/2¹⁶⌉ (d ≥ 2¹⁶·(dh − 1) + 1).
-    let wl = reciprocal16((d >> 16) + 1);
-    let d16 = (d as u64) << 16;
-    // High digit: q1 = ⌊N/(d·2¹⁶)⌋ < 2¹⁵, estimated as ⌊u1·W/2³²⌋ ≤
-    // u1·2¹⁶/d ≤ N/(d·2¹⁶); the remainder N − q1·d·2¹⁶ then stays ≥ 0 and
-    // below 2⁴⁸ after the corrections.
-    let mut q1 = mul_recip(u1, wl);
-    let mut n1 = n - (mul16x32(q1, d) << 16);
-    while n1 >= d16 {
-        n1 -= d16;
-        q1 += 1;
-    }
-    // Low digit: q0 = ⌊n1/d⌋ < 2¹⁶ from the top 32 bits of n1, likewise.
-    let mut q0 = mul_recip((n1 >> 16) as u32, wl);
-    let mut r = n1 - mul16x32(q0, d);
-    while r >= d as u64 {
-        r -= d as u64;
-        q0 += 1;
-    }
+    let (u1, u0) = if k >= 32 { (x.wrapping_shl(k - 32), 0) } else { (x.wrapping_shr(32 - k), x.wrapping_shl(k)) };
+    let (q, r) = words(u1, u0, d);
     // r = 2^s·(x·2^FRAC mod y) < d: the remainder is at least half the
     // divisor iff r ≥ d − r; the magnitude then rounds up (away from zero).
     // q < 2³¹, so q + 1 ≤ 2³¹ fits, and only 2³¹ itself saturates.
-    let r = r as u32;
-    let q = (q1 << 16) + q0 + (r >= d - r) as u32;
+    let q = q.wrapping_add((r >= d.wrapping_sub(r)) as u32);
     let m = if q > RAW_MAX as u32 { RAW_MAX } else { q as i32 };
     if neg {
         -m
     } else {
         m
     }
+}
+
+/// `a·2^FRAC / b` with this target's two-word division.
+#[inline(always)]
+fn div_raw(a: i32, b: i32) -> i32 {
+    div_raw_with(a, b, div_words)
 }
 
 // ---------------------------------------------------------------------------
@@ -538,56 +650,58 @@ fn sqrt_raw(a: u32) -> u32 {
     // Normalise by an even shift: t = g·4^(z/2) ∈ [2³⁰, 2³²), so that
     // √n = √(t·2³²)·2^−k with k = 16 − F'/2 + z/2 ≥ 3.
     let z = clz(g) & !1;
-    let t = g << z;
-    let k = 16 - (FRAC - odd) / 2 + z / 2;
+    let t = g.wrapping_shl(z); // z ≤ 30
+    let k = (16 - (FRAC - odd) / 2).wrapping_add(z / 2);
     // y ≈ 2³¹/√t = 2¹⁵/√T (T = t/2³² ∈ [¼, 1)), y ∈ (2¹⁵, 2¹⁶): seed, then
     // Newton y ← y + y·(1 − T·y²)/2 (converges from below).
     let seed = match RSQRT_SEED.get(((t >> 27) as usize).wrapping_sub(8)) {
         Some(&s) => s as u32,
         None => 0, // unreachable: t >> 27 ∈ [8, 31]
     };
-    let mut y = (1 << 15) + (seed << 7);
+    let mut y = (1u32 << 15) + (seed << 7);
     // First step with T's top 16 bits (error 2⁻⁵ → 2⁻⁹·⁵): T·y² in Q.16 as
     // (t/2¹⁶)·(y²/2¹⁶)/2¹⁴; h = 1 − T·y² in Q.16 is small and signed.
-    let u = ((t >> 16) * ((y * y) >> 16)) >> 14;
-    let h = (1i32 << 16) - u as i32;
-    y = y.wrapping_add(((((y >> 1) as i32) * h) >> 16) as u32);
+    let u = (t >> 16).wrapping_mul(y.wrapping_mul(y) >> 16) >> 14;
+    let h = (1i32 << 16).wrapping_sub(u as i32);
+    y = y.wrapping_add((((y >> 1) as i32).wrapping_mul(h) >> 16) as u32);
     // Second step with the full t (error → 2⁻¹⁵, the resolution of y):
     // T·y = t·y/2³² as Q.31 from a 16×32 product, then T·y² = (T·y)·y.
     let ty = (mul16x32(y, t) >> 16) as u32;
-    let u = ((ty >> 15) * y) >> 15;
-    let h = (1i32 << 16) - u as i32;
-    y = y.wrapping_add(((((y >> 1) as i32) * h) >> 16) as u32);
+    let u = (ty >> 15).wrapping_mul(y) >> 15;
+    let h = (1i32 << 16).wrapping_sub(u as i32);
+    y = y.wrapping_add((((y >> 1) as i32).wrapping_mul(h) >> 16) as u32);
     // Top 16 bits: s ≈ √t = t·y/2³¹ (within −1…+2 of ⌊√t⌋); make it exact
     // with the residual δ = t − s² (exact: |δ| < 2³¹, wrapped arithmetic).
     let mut s = (mul16x32(y, t) >> 31) as u32;
     let mut delta = t.wrapping_sub(s.wrapping_mul(s)) as i32;
+    // (The bounds make every step below exact; wrapping operations keep
+    // them free of overflow checks, which LLVM cannot discharge.)
     while delta < 0 {
-        s -= 1;
-        delta += (2 * s + 1) as i32;
+        s = s.wrapping_sub(1);
+        delta = delta.wrapping_add(s.wrapping_mul(2).wrapping_add(1) as i32);
     }
-    while delta > (2 * s) as i32 {
-        delta -= (2 * s + 1) as i32;
-        s += 1;
+    while delta > s.wrapping_mul(2) as i32 {
+        delta = delta.wrapping_sub(s.wrapping_mul(2).wrapping_add(1) as i32);
+        s = s.wrapping_add(1);
     }
     // Next 16 bits: √t = s + δ/(2s) − δ²/(8s³) + … with 0 ≤ δ ≤ 2s, so
     // √(t·2³²) ≈ s·2¹⁶ + δ·2¹⁵/s, and 1/s ≈ y/2³¹: f = (δ/2)·y/2¹⁵ (< 2³²;
     // error a few units, the dropped term below one).
-    let f = ((delta as u32 >> 1) * y) >> 15;
-    let root = (s << 16) + f; // ≈ √(t·2³²), within a few units
+    let f = (delta as u32 >> 1).wrapping_mul(y) >> 15;
+    let root = (s << 16).wrapping_add(f); // ≈ √(t·2³²), within a few units
     // Scale to √n and round: r̂ = round(root/2^k), within ±1 of the answer.
-    let mut r = ((root >> (k - 1)) + 1) >> 1;
+    let mut r = (root >> (k.wrapping_sub(1) & 31)).wrapping_add(1) >> 1;
     // Exact final rounding with D = n − r̂² (|D| < 2³¹, so modulo 2³² is
     // exact): r is round(√n) iff −r < D ≤ r (as (r − ½)² ≤ n < (r + ½)²,
     // and n is an integer).
     let mut dd = (a << FRAC).wrapping_sub(r.wrapping_mul(r)) as i32;
     while dd > r as i32 {
-        dd -= (2 * r + 1) as i32;
-        r += 1;
+        dd = dd.wrapping_sub(r.wrapping_mul(2).wrapping_add(1) as i32);
+        r = r.wrapping_add(1);
     }
-    while dd <= -(r as i32) {
-        dd += (2 * r - 1) as i32;
-        r -= 1;
+    while dd <= (r as i32).wrapping_neg() {
+        dd = dd.wrapping_add(r.wrapping_mul(2).wrapping_sub(1) as i32);
+        r = r.wrapping_sub(1);
     }
     r
 }
@@ -626,16 +740,16 @@ fn log2_mantissa(m: u32) -> u32 {
         let (t, over) = p.overflowing_add(p >> (i + 1));
         if !over {
             p = t;
-            acc += LOG2_STEP[i];
+            acc = acc.wrapping_add(LOG2_STEP[i]);
         }
         i += 1;
     }
     // 2 − p in units of 2⁻³¹ is 2³² − p (< 2¹⁸ here); times 1/(2 ln 2) in
     // Q.30: (2³² − p)/2²·(1/ln 2)/2¹⁵.
     let gap = p.wrapping_neg();
-    let tail = ((gap >> 2) * INV_LN2_Q15) >> 15;
+    let tail = (gap >> 2).wrapping_mul(INV_LN2_Q15) >> 15;
     // At m = 1 the rounded table sum may exceed 1 by a few units: clamp at 0.
-    (1u32 << 30).saturating_sub(acc + tail)
+    (1u32 << 30).saturating_sub(acc.wrapping_add(tail))
 }
 
 /// `2^f` in Q1.31 for `f ∈ [0, 1)` given as Q.26.
@@ -651,14 +765,15 @@ fn exp2_fraction(f: u32) -> u32 {
     let mut i = 0;
     while i < POW_STEPS {
         if rem >= LOG2_STEP[i] {
-            rem -= LOG2_STEP[i];
-            p += p >> (i + 1);
+            rem = rem.wrapping_sub(LOG2_STEP[i]);
+            p = p.wrapping_add(p >> (i + 1));
         }
         i += 1;
     }
     // rem < 2¹⁷ (Q.30); rem·ln 2 in Q.30, then p·that/2³⁰ from 15 × 16 bits.
-    let x = ((rem >> 1) * LN2_Q16) >> 15;
-    p + (((p >> 17) * x) >> 13)
+    let x = (rem >> 1).wrapping_mul(LN2_Q16) >> 15;
+    // (Exact by the bounds above; wrapping spares unprovable overflow checks.)
+    p.wrapping_add((p >> 17).wrapping_mul(x) >> 13)
 }
 
 /// `x^e` for raw `0 < x < 2^FRAC` (x in (0, 1)) and raw `e > 0`.
@@ -667,10 +782,10 @@ fn powf_raw(x: i32, e: i32) -> i32 {
     // With j the index of x's top bit, x·2^−FRAC = (m/2³¹)·2^(j−FRAC) with
     // the mantissa m = x·2^(31−j) ∈ [2³¹, 2³²).
     let lz = clz(x as u32);
-    let j = 31 - lz;
-    let m = (x as u32) << lz;
+    let j = 31u32.wrapping_sub(lz);
+    let m = (x as u32).wrapping_shl(lz);
     // |log₂x| = (FRAC − j) − log₂(m/2³¹) ∈ (0, FRAC] in Q.26 (rounded from Q.30).
-    let l_mag = ((FRAC - j) << 26) - ((log2_mantissa(m) + 8) >> 4);
+    let l_mag = (FRAC.wrapping_sub(j) << 26).wrapping_sub(log2_mantissa(m).wrapping_add(8) >> 4);
     // w = e·|log₂x| in Q.26 from one 32×32→64 product (e in Q.FRAC).
     let w = wmul(e as u32, l_mag) >> FRAC;
     // 2^−w < 2^−(FRAC+1) rounds to zero (below half an ulp).
@@ -681,11 +796,11 @@ fn powf_raw(x: i32, e: i32) -> i32 {
     // 2^−w = 2^f·2^−kk with kk = ⌈w⌉ and f = kk − w ∈ [0, 1) (f = 0 when w is
     // an integer).
     let f = w.wrapping_neg() & ((1 << 26) - 1);
-    let kk = (w + (1 << 26) - 1) >> 26; // ≤ FRAC + 1
+    let kk = w.wrapping_add((1 << 26) - 1) >> 26; // ≤ FRAC + 1
     let p = exp2_fraction(f); // 2^f in Q1.31
     // raw = round(p·2^−kk·2^FRAC/2³¹): shift by 31 − FRAC + kk ∈ [7, 32], rounding.
-    let sh = 31 - FRAC + kk;
-    (((p >> (sh - 1)) + 1) >> 1) as i32
+    let sh = (31 - FRAC).wrapping_add(kk);
+    ((p >> (sh.wrapping_sub(1) & 31)).wrapping_add(1) >> 1) as i32
 }
 
 // ---------------------------------------------------------------------------
@@ -725,12 +840,12 @@ const fn raw_from_f32(v: f32) -> i32 {
         } else {
             // Add half of the last kept bit's weight and truncate: the
             // magnitude rounds half up, i.e. ties away from zero.
-            (sig + (1 << (n - 1))) >> n
+            sig.wrapping_add(1 << (n - 1)) >> n
         }
     };
-    // mag < 2²⁴ or checked against MAX above.
+    // mag < 2²⁴ or checked against MAX above (so the negation is exact).
     if neg {
-        -(mag as i32)
+        (mag as i32).wrapping_neg()
     } else {
         mag as i32
     }
@@ -1149,7 +1264,12 @@ mod tests {
         assert_eq!((Fixed32::from_bits(1) / Fixed32::TWO).to_bits(), 1);
         assert_eq!((Fixed32::from_bits(-1) / Fixed32::TWO).to_bits(), -1);
         let mut rng = Rng(0xD1D);
-        let check = |a: i32, b: i32| assert_eq!(div_raw(a, b), div_reference(a, b), "{a} / {b}");
+        let check = |a: i32, b: i32| {
+            let want = div_reference(a, b);
+            assert_eq!(div_raw(a, b), want, "{a} / {b}");
+            assert_eq!(div_raw_with(a, b, div_words_hw32), want, "{a} / {b} (hw32)");
+            assert_eq!(div_raw_with(a, b, div_words_reciprocal), want, "{a} / {b} (reciprocal)");
+        };
         let edges = [0, 1, -1, 2, 3, RAW_MAX, RAW_MIN, i32::MIN, RAW_ONE, -RAW_ONE, RAW_ONE - 1, RAW_ONE + 1, 1 << 30, (1 << 30) + 1, 0x7FFF, 0x8000, 0xFFFF, 0x1_0000, 0x1_0001, RAW_MAX >> (31 - FRAC), (RAW_MAX >> (31 - FRAC)) + 1];
         for &a in &edges {
             for &b in &edges {
@@ -1162,6 +1282,33 @@ mod tests {
             // Quotients near the saturation threshold: b ≈ a/2^(31−FRAC).
             let b2 = (a >> (31 - FRAC)).wrapping_add((rng.u32() % 5) as i32 - 2);
             check(a, b2);
+        }
+    }
+
+    /// The three two-word divisions agree with `u64` division, on edge
+    /// cases and random normalised divisors and numerators.
+    #[test]
+    fn two_word_divisions_agree() {
+        let mut rng = Rng(0x2D1);
+        let check = |u1: u32, u0: u32, d: u32| {
+            let n = ((u1 as u64) << 32) | u0 as u64;
+            let want = ((n / d as u64) as u32, (n % d as u64) as u32);
+            assert_eq!(div_words_native(u1, u0, d), want);
+            assert_eq!(div_words_hw32(u1, u0, d), want, "hw32 {u1:#x}:{u0:#x} / {d:#x}");
+            assert_eq!(div_words_reciprocal(u1, u0, d), want, "reciprocal {u1:#x}:{u0:#x} / {d:#x}");
+        };
+        for d in [0x8000_0000u32, 0x8000_0001, 0xFFFF_FFFF, 0xFFFF_0000, 0x8000_FFFF, 0xC000_0000, 0xFFFE_0001] {
+            for u1 in [0, 1, d >> 1, d - 1, d - 2, 0x7FFF_FFFF.min(d - 1)] {
+                for u0 in [0, 1, 0xFFFF, 0x1_0000, 0x8000_0000, u32::MAX] {
+                    check(u1, u0, d);
+                }
+            }
+        }
+        for i in 0..2_000_000u32 {
+            let d = rng.u32() | 0x8000_0000;
+            let d = match i % 4 { 0 => d | 0xFFFF, 1 => d & 0xFFFF_0000, _ => d };
+            let u1 = match i % 3 { 0 => d - 1 - (rng.u32() & 0xFF).min(d - 1), 1 => rng.u32() % d, _ => (rng.u32() >> (rng.u32() % 32)) % d };
+            check(u1, rng.u32(), d);
         }
     }
 
