@@ -230,11 +230,12 @@ impl Scalar for f32 {
             libm::sqrtf(self)
         }
     }
-    #[inline]
+    #[inline(always)]
     fn powf(self, e: Self) -> Self {
-        // Always libm: the C library's powf differs in the last bit between
-        // platforms.
-        libm::powf(self, e)
+        // Our own branch-free x^e for the highlight's domain (src/pow.rs):
+        // plain IEEE operations in a fixed order, the same bits on every
+        // target, and it vectorises where libm::powf stayed scalar.
+        crate::pow::powf_unit(self, e)
     }
     #[inline(always)]
     fn floor_to_i32(self) -> i32 {
