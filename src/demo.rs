@@ -5,6 +5,7 @@ use crate::camera::{Camera, CameraError};
 use crate::primitives::Quadric;
 use crate::scalar::Scalar;
 use crate::scene::{Material, Scene, SceneError};
+use crate::similarity::Similarity;
 use crate::vec3::Vec3;
 
 /// Capacity type of the demo scene.
@@ -74,7 +75,40 @@ pub fn build_demo_scene<S: Scalar>(s: &mut DemoScene<S>) -> Result<(), SceneErro
     Ok(())
 }
 
+/// The demo camera's eye, look-at point and up vector, and its vertical
+/// field of view in degrees.
+pub const DEMO_VIEW: ([f32; 3], [f32; 3], [f32; 3], f32) = ([0.0, -7.0, 2.6], [0.0, 0.5, 0.8], [0.0, 0.0, 1.0], 45.0);
+
 /// The demo scene's camera, for a `width × height` image.
 pub fn demo_camera<S: Scalar>(width: u32, height: u32) -> Result<Camera<S>, CameraError> {
-    Camera::new(v(0.0, -7.0, 2.6), v(0.0, 0.5, 0.8), v(0.0, 0.0, 1.0), 45.0, width, height)
+    let (e, a, u, fov) = DEMO_VIEW;
+    Camera::new(v(e[0], e[1], e[2]), v(a[0], a[1], a[2]), v(u[0], u[1], u[2]), fov, width, height)
+}
+
+/// Builds the demo scene for scalar `S` in `scene` (empty, typically a
+/// `static`) and returns the frame it lives in. A scalar that traces in a
+/// frame of its own ([`Scalar::SCENE_FRAME`], the Q8.24 fixed point) gets
+/// the scene built in `f32` in `described` (so set-up keeps every digit)
+/// and converted ([`Scene::add_similar`]); every other scalar gets it built
+/// directly, in the identity frame, and `described` is left alone.
+pub fn build_demo_scene_for<S: Scalar>(scene: &mut DemoScene<S>, described: &mut DemoScene<f32>) -> Result<Similarity, SceneError> {
+    let Some(half) = S::SCENE_FRAME else {
+        build_demo_scene(scene)?;
+        return Ok(Similarity::IDENTITY);
+    };
+    build_demo_scene(described)?;
+    let (e, _, _, _) = DEMO_VIEW;
+    let frame = described.view().fitting_frame(Some(Vec3::new(e[0], e[1], e[2])), half);
+    scene.add_similar(&described.view(), &frame)?;
+    Ok(frame)
+}
+
+/// The demo camera in `frame` (what [`build_demo_scene_for`] returned).
+pub fn demo_camera_for<S: Scalar>(frame: &Similarity, width: u32, height: u32) -> Result<Camera<S>, CameraError> {
+    if *frame == Similarity::IDENTITY {
+        return demo_camera(width, height);
+    }
+    let (e, a, u, fov) = DEMO_VIEW;
+    let cam = crate::nff::NffCamera { from: e, at: a, up: u, angle: fov, hither: 0.0, width, height };
+    cam.camera_in(frame, width, height)
 }

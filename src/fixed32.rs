@@ -140,9 +140,11 @@ pub const COORDINATE_LIMIT: f32 = f32::from_bits(((127 + coordinate_limit_log2()
 /// Largest coordinate magnitude of a light (see [`Scalar::LIGHT_LIMIT`]).
 pub const LIGHT_LIMIT: f32 = 100.0;
 
-/// Budget for a single kernel intermediate (quadric and cone discriminant
-/// terms, [`crate::range`]): half the range.
-pub const INTERMEDIATE_LIMIT: f32 = 64.0;
+/// Budget for the quadric and cone discriminants ([`crate::range`]
+/// bounds them, and each of the two terms they are the sum of): the largest
+/// sums those kernels form, kept below the top of the range (128) with a
+/// margin for rounding.
+pub const INTERMEDIATE_LIMIT: f32 = 120.0;
 
 /// A signed Q8.24 fixed-point number with 32-bit storage: the fast
 /// [`Scalar`] for FPU-less 32-bit targets.

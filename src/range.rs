@@ -140,9 +140,18 @@ pub fn intermediate_bound<S: Scalar>(shape: &Shape<S>, r: f32) -> f32 {
     match shape {
         Shape::Quadric(q) => {
             let c = q.coefficients().map(|v| v.abs().to_f32());
+            // Per coordinate (|oᵢ| ≤ R, |dᵢ| ≤ 1).
             let q2 = c[0] + c[1] + c[2] + c[3] + c[4] + c[5];
             let q1 = c[6] + c[7] + c[8];
-            disc_bound(q2, 2.0 * q2 * r + q1, q2 * r * r + q1 * r + c[9])
+            let by_terms = disc_bound(q2, 2.0 * q2 * r + q1, q2 * r * r + q1 * r + c[9]);
+            // By norms: with the symmetric matrix M of A..F (Frobenius norm
+            // ‖M‖ ≥ its spectral norm) and g = (G, H, I)/2, b = 2(Mo + g)·d,
+            // a = dᵀMd, c = oᵀMo + 2g·o + J, and |o| ≤ √3·R.
+            let m = libm::sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + 0.5 * (c[3] * c[3] + c[4] * c[4] + c[5] * c[5]));
+            let g = 0.5 * libm::sqrtf(c[6] * c[6] + c[7] * c[7] + c[8] * c[8]);
+            let o = libm::sqrtf(3.0) * r;
+            let by_norms = disc_bound(m, 2.0 * (m * o + g), m * o * o + 2.0 * g * o + c[9]);
+            by_terms.min(by_norms)
         }
         Shape::Cone(cone) => {
             let o = 2.0 * libm::sqrtf(3.0) * r;

@@ -111,3 +111,33 @@ fn ray_casting_mode_matches_across_widths() {
         assert_eq!(a, b, "{aov:?}");
     }
 }
+
+/// The demo scene (every primitive kind, quadrics included) in the Q8.24
+/// fixed point, converted into its frame as the firmware does: within the
+/// issue's quality floor of the f32 render, at every packet width the same.
+#[test]
+fn demo_scene_in_fixed32_is_close_to_f32() {
+    use raypack::demo::{build_demo_scene_for, demo_camera_for, DemoScene};
+    use raypack::Fixed32;
+    let (w, h) = (160, 128);
+    let f = demo_scene::<f32>().unwrap();
+    let mut described = DemoScene::<f32>::new();
+    let mut x = DemoScene::<Fixed32>::new();
+    let frame = build_demo_scene_for(&mut x, &mut described).unwrap();
+    let cx = demo_camera_for::<Fixed32>(&frame, w, h).unwrap();
+    x.view().check_range(cx.eye()).unwrap();
+    let cf = demo_camera::<f32>(w, h).unwrap();
+    let settings = TraceSettings::default();
+    let sx = TraceSettings::<Fixed32>::default();
+    let (a, _) = render_in::<f32, 8>(&f.view(), cf, settings, Aov::Color, 32);
+    let (b, _) = render_in::<Fixed32, 8>(&x.view(), cx, sx, Aov::Color, 32);
+    let (ia, _) = render_in::<f32, 8>(&f.view(), cf, settings, Aov::Id, 32);
+    let (ib, _) = render_in::<Fixed32, 8>(&x.view(), cx, sx, Aov::Id, 32);
+    let (p, ag) = (psnr(&a, &b), agreement(&ia, &ib));
+    println!("demo fixed32: PSNR {p:.2} dB, ID {:.3} %", ag * 100.0);
+    assert!(p >= 35.0 && ag >= 0.995, "PSNR {p:.2} dB, ID {:.3} %", ag * 100.0);
+    for packet in [1, 4, 16] {
+        let (c, _) = render_with(BruteForce, &x.view(), cx, sx, Aov::Color, 16, packet);
+        assert!(c == b, "fixed32 packet {packet} differs");
+    }
+}

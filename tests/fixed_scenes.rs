@@ -1,9 +1,10 @@
-//! Fixed point against `f32` on the SPD scenes: every database at size
-//! factor 1, and balls-2, teapot-2 and gears-2, read from `tests/scenes/` by
-//! the NFF reader in both scalars, traced through the BVH, and compared by
-//! PSNR (colour) and ID-AOV agreement. Images are small here (the test runs
-//! unoptimized); `examples/fixed_formats.rs` renders the same comparison at
-//! full size in release (the README's table).
+//! Fixed point against `f32` on the SPD scenes, read from `tests/scenes/`
+//! by the NFF reader, traced through the BVH, and compared by PSNR (colour)
+//! and ID-AOV agreement:
+//! - the Q8.24 `Fixed32` (scene converted into its frame at load time) on
+//!   **every** SPD scene at 256×256, the size and floors;
+//! - the 32.32 `Fixed` (the accurate reference) on the size-1 databases
+//!   and three size-2 ones at small sizes.
 //!
 //! The `f32` renders are the reference (the tracer's `f32` path is checked
 //! against an independent `f64` tracer in `tests/whitted_reference.rs`).
@@ -48,6 +49,30 @@ fn render_scene(name: &str, text: &str, size: u32, scalar: ScalarKind, widths: b
         assert!(c1 == color && c4 == color, "{name}: widths 1/4/8 differ");
     }
     (color, id)
+}
+
+/// Every SPD database in `tests/scenes` (the extension sample is raypack's
+/// own, not SPD).
+const SPD: [&str; 17] = [
+    "balls-1", "balls-2", "gears-1", "gears-2", "jacks-1", "lattice-1", "mount-1", "mount-2", "rings-1", "shells-1", "sombrero-1", "teapot-1",
+    "teapot-2", "tetra-1", "tetra-2", "tree-1", "tree-2",
+];
+
+#[test]
+fn every_spd_scene_in_fixed32_matches_f32_at_256() {
+    let mut failures = Vec::new();
+    for (k, name) in SPD.iter().enumerate() {
+        let text = common::SCENES.iter().find(|(n, _)| n == name).map(|(_, t)| *t).unwrap();
+        let (cf, idf) = render_scene(name, text, 256, ScalarKind::F32, false);
+        // Every fourth scene also checks packets of 1 and 4 in fixed32.
+        let (cx, idx) = render_scene(name, text, 256, ScalarKind::Fixed32, k % 4 == 0);
+        let (p, a) = (psnr(&cf, &cx), agreement(&idf, &idx));
+        println!("{name:>10} 256² fixed32: PSNR {p:6.2} dB, ID agreement {:7.3} %", a * 100.0);
+        if !(p >= MIN_PSNR_DB && a >= MIN_ID_AGREEMENT) {
+            failures.push(format!("{name}: PSNR {p:.2} dB, ID {:.3} %", a * 100.0));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
 }
 
 #[test]
