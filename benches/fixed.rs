@@ -1,11 +1,11 @@
-//! Fixed point (32.32 `Fixed`) against `f32` on the host: the full Whitted
+//! Fixed point (Q8.24 `Fixed32` and 32.32 `Fixed`) against `f32` on the host: the full Whitted
 //! render of the demo scene at 64×48, packet widths 1 and 8.
 //!
 //! `cargo bench --bench fixed`. Criterion reports each configuration's time;
-//! `examples/fixed_speed.rs` measures the same four configurations
+//! `tools/fixed_speed.rs` measures the same four configurations
 //! interleaved (best of N) for the ratios quoted in the README.
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use raypack::demo::{demo_camera, demo_scene};
+use raypack::demo::{build_demo_scene_for, demo_camera_for, DemoScene};
 use raypack::prelude::*;
 use std::hint::black_box;
 use std::time::Duration;
@@ -20,8 +20,10 @@ fn render<S: Scalar, const L: usize>(renderer: &Renderer<'_, S>, img: &mut [Rgb8
 }
 
 fn bench_scalar<S: Scalar>(c: &mut Criterion, name: &str) {
-    let scene = demo_scene::<S>().unwrap();
-    let camera = demo_camera::<S>(W, H).unwrap();
+    let mut scene = Box::new(DemoScene::<S>::new());
+    let mut described = Box::new(DemoScene::<f32>::new());
+    let frame = build_demo_scene_for(&mut scene, &mut described).unwrap();
+    let camera = demo_camera_for::<S>(&frame, W, H).unwrap();
     let tracer: Tracer<S> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
     let renderer = Renderer::new(tracer, camera);
     let mut img = vec![[0u8; 3]; (W * H) as usize];
@@ -35,6 +37,7 @@ fn bench_scalar<S: Scalar>(c: &mut Criterion, name: &str) {
 fn bench(c: &mut Criterion) {
     bench_scalar::<f32>(c, "f32");
     bench_scalar::<Fixed>(c, "fixed");
+    bench_scalar::<raypack::Fixed32>(c, "fixed32");
 }
 
 criterion_group! {

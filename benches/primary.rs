@@ -12,7 +12,7 @@
 //!   BVH, width 8, 256×256, single thread.
 //!
 //! `cargo bench --bench primary` (about 2 minutes of measuring). Ratios in
-//! the README come from `examples/primary_probe.rs` and `raypack
+//! the README come from `tools/primary_probe.rs` and `raypack
 //! bench`, which interleave the configurations.
 mod workloads;
 

@@ -10,14 +10,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = args.get(1).map(String::as_str).unwrap_or("demo.ppm");
     let w: u32 = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(640);
     let h: u32 = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(480);
-    let scene = demo_scene::<f32>().map_err(|e| e.to_string())?;
-    let camera = demo_camera::<f32>(w, h).map_err(|e| e.to_string())?;
-    let tracer: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).map_err(|e| e.to_string())?;
+    let scene = demo_scene::<f32>()?;
+    let camera = demo_camera::<f32>(w, h)?;
+    let tracer: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default())?;
     let renderer = Renderer::new(tracer, camera);
     let mut img = vec![[0u8; 3]; (w * h) as usize];
     let mut stats = RayStats::default();
     let t0 = std::time::Instant::now();
-    renderer.render_rect::<8>(camera.full_rect(), &mut img, &mut stats).map_err(|e| e.to_string())?;
+    renderer.render_rect::<8>(camera.full_rect(), &mut img, &mut stats)?;
     let dt = t0.elapsed();
     let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
     write!(f, "P6\n{w} {h}\n255\n")?;

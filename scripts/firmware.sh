@@ -33,15 +33,15 @@ die() { printf '\nFIRMWARE FAILURE: %s\n' "$*" >&2; exit 1; }
 ICOUNT="-icount shift=0,align=off,sleep=off"
 # board  target-triple  packet-width  scalars  qemu command (ELF appended; "-": not run)
 BOARDS=(
-  "mps2-an386|thumbv7em-none-eabihf|8|f32|qemu-system-arm -cpu cortex-m4 -M mps2-an386 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
-  "microbit|thumbv6m-none-eabi|1|f32,fixed|qemu-system-arm -cpu cortex-m0 -M microbit -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
-  "riscv-virt|riscv32imac-unknown-none-elf|4|f32,fixed|qemu-system-riscv32 -M virt -bios none -nographic -semihosting $ICOUNT -kernel"
+  "mps2-an386|thumbv7em-none-eabihf|8|f32,fixed32|qemu-system-arm -cpu cortex-m4 -M mps2-an386 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
+  "microbit|thumbv6m-none-eabi|1|f32,fixed32|qemu-system-arm -cpu cortex-m0 -M microbit -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
+  "riscv-virt|riscv32imac-unknown-none-elf|4|f32,fixed32|qemu-system-riscv32 -M virt -bios none -nographic -semihosting $ICOUNT -kernel"
   # Raspberry Pi Pico + Pimoroni Pico Display Pack: no QEMU machine models the
   # RP2040, so it is built, sized and proved panic-free only. Its frame is the
   # code the QEMU boards run (common's render_demo_into), host-tested down to
-  # the SPI bytes; its instruction count is microbit's fixed (same Armv6-M
+  # the SPI bytes; its instruction count is microbit's fixed32 (same Armv6-M
   # code, width 1).
-  "rp2040-pico-display|thumbv6m-none-eabi|1|fixed|-"
+  "rp2040-pico-display|thumbv6m-none-eabi|1|fixed32|-"
 )
 QEMU_TIMEOUT=${RAYPACK_QEMU_TIMEOUT:-300}
 

@@ -4,24 +4,45 @@
 //! that traces ray packets of any width (1, 4, 8 and 16 are the usual ones).
 //!
 //! Everything on the rendering path is generic over the scalar `S`
-//! ([`Scalar`]: `f32`, or fixed point) and the packet width `W`; width 1 is
-//! the scalar tracer, so there is no second copy of any algorithm.
+//! ([`Scalar`]: `f32`, the Q8.24 fixed point [`Fixed32`] for processors
+//! without an FPU, or the 32.32 [`Fixed`]) and the packet width `W`; width 1
+//! is the scalar tracer, so there is no second copy of any algorithm.
+//!
+//! ## With `std`: one call
+//! [`Image::render`] reads an NFF scene, builds a BVH, picks the instruction
+//! set and renders on every core (see [`image`]):
+//!
+//! ```
+//! let scene = std::fs::read_to_string("tests/scenes/balls-1.nff")?;
+//! let options = raypack::Options { width: Some(64), height: Some(64), ..Default::default() };
+//! let image = raypack::Image::render(&scene, &options)?;
+//! assert_eq!(image.pixels.len(), 64 * 64);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! ## Without `std`: band by band
+//! Firmware builds a scene in fixed memory and renders it a band of rows at
+//! a time into one small buffer, handing each band to a sink (a display
+//! driver, a checksum); nothing allocates:
 //!
 //! ```
 //! use raypack::prelude::*;
 //!
 //! let mut scene: Scene<f32, 16, 64> = Scene::new();
-//! let red = scene.add_material(Material::diffuse(Vec3::new(1.0, 0.2, 0.2))).unwrap();
-//! scene.add_sphere(Vec3::new(0.0, 0.0, 0.0), 1.0, red).unwrap();
-//! scene.add_light(Vec3::new(5.0, 5.0, 5.0), Vec3::new(1.0, 1.0, 1.0)).unwrap();
-//! let camera = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, 0.0),
-//!                          Vec3::new(0.0, 1.0, 0.0), 45.0, 32, 32).unwrap();
-//! let tracer: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
-//! let renderer = Renderer::new(tracer, camera);
-//! let mut row = [[0u8; 3]; 32 * 2];               // a band of two rows
+//! let red = scene.add_material(Material::diffuse(Vec3::new(1.0, 0.2, 0.2)))?;
+//! scene.add_sphere(Vec3::new(0.0, 0.0, 0.0), 1.0, red)?;
+//! scene.add_light(Vec3::new(5.0, 5.0, 5.0), Vec3::new(1.0, 1.0, 1.0))?;
+//! let camera = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 32, 32)?;
+//! let renderer = Renderer::new(Tracer::<f32>::new(scene.view(), TraceSettings::default())?, camera);
+//! let mut band = [[0u8; 3]; 32 * 2];               // two rows
 //! let mut stats = RayStats::default();
-//! renderer.render_rect::<8>(Rect { x: 0, y: 15, w: 32, h: 2 }, &mut row, &mut stats).unwrap();
-//! assert!(row[16][0] > 0);                         // the sphere, lit
+//! let mut lit = 0;
+//! renderer.render_bands::<8, core::convert::Infallible>(&mut band, &mut stats, |_rect, pixels| {
+//!     lit += pixels.iter().filter(|p| p[0] > 0).count(); // a display would draw `rect`
+//!     Ok(())
+//! })?;
+//! assert!(lit > 0 && stats.primary == 32 * 32);
+//! # Ok::<(), Box<dyn core::error::Error>>(())
 //! ```
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(missing_docs)]

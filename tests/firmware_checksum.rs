@@ -1,19 +1,20 @@
 //! The host renders the firmware's scene (the demo scene at 160×128, see
 //! `targets/`) through the same core and must get the checksums recorded in
 //! `targets/checksums.txt`, at packet widths 1, 4 and 8 alike, for `f32` and
-//! for the 32.32 `Fixed` scalar.
+//! for the Q8.24 `Fixed32` scalar (its scene built in `f32` and converted
+//! into its frame, as the firmware builds it).
 //!
 //! How the recorded values were verified: they were produced independently
 //! by this host and by the firmware builds under QEMU (f32: Cortex-M4F with
-//! hardware f32, Cortex-M0 and RV32IMAC with soft-float; fixed point:
-//! Cortex-M0 and RV32IMAC) and agreed bit for bit; `scripts/firmware.sh`
+//! hardware f32, Cortex-M0 and RV32IMAC with soft-float; Q8.24 fixed point:
+//! Cortex-M4F, Cortex-M0 and RV32IMAC) and agreed bit for bit; `scripts/firmware.sh`
 //! re-checks the boards on every run. The f32 image itself is checked
 //! against an independent f64 tracer in `tests/whitted_reference.rs`, the
 //! fixed-point one against f32 in `tests/fixed_point.rs`. Here the checksum
 //! is also recomputed with a separate, inline FNV-1a over a full-frame
 //! render, so the band helper and the hasher are checked too.
 
-use raypack::demo::{demo_camera, demo_scene};
+use raypack::demo::{build_demo_scene_for, demo_camera_for, DemoScene};
 use raypack::output::{rgb565, Dither, ImageChecksums};
 use raypack::prelude::*;
 
@@ -36,8 +37,10 @@ fn checksums<S: Scalar, const W: usize>(renderer: &Renderer<'_, S>, band_rows: u
 }
 
 fn check<S: Scalar>(name: &str) -> Vec<Rgb8> {
-    let scene = demo_scene::<S>().unwrap();
-    let camera = demo_camera::<S>(160, 128).unwrap();
+    let mut scene = Box::new(DemoScene::<S>::new());
+    let mut described = Box::new(DemoScene::<f32>::new());
+    let frame = build_demo_scene_for(&mut scene, &mut described).unwrap();
+    let camera = demo_camera_for::<S>(&frame, 160, 128).unwrap();
     let tracer: Tracer<S> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
     let renderer = Renderer::new(tracer, camera);
 
@@ -70,7 +73,7 @@ fn check<S: Scalar>(name: &str) -> Vec<Rgb8> {
 #[test]
 fn host_matches_recorded_firmware_checksums_at_every_width() {
     let f = check::<f32>("f32");
-    let x = check::<Fixed>("fixed");
+    let x = check::<raypack::Fixed32>("fixed32");
     // The two scalars give nearly the same picture (see tests/fixed_point.rs),
     // so few pixels differ, by little; report it.
     let differing: Vec<usize> = (0..f.len()).filter(|&i| f[i] != x[i]).collect();
@@ -78,5 +81,5 @@ fn host_matches_recorded_firmware_checksums_at_every_width() {
         .iter()
         .flat_map(|&i| (0..3).map(|c| (f[i][c] as i32 - x[i][c] as i32).abs()).collect::<Vec<_>>())
         .max();
-    eprintln!("f32 vs fixed: {} of {} pixels differ, by at most {:?}", differing.len(), f.len(), max);
+    eprintln!("f32 vs fixed32: {} of {} pixels differ, by at most {:?}", differing.len(), f.len(), max);
 }

@@ -1,5 +1,5 @@
 //! Workloads shared by the criterion benches (`benches/primary.rs`) and the
-//! interleaved probe (`examples/primary_probe.rs`): packets of camera rays,
+//! interleaved probe (`tools/primary_probe.rs`): packets of camera rays,
 //! N-sphere grids, one primitive of each kind, and passes over them that run
 //! through the instruction-set dispatcher ([`raypack::dispatch`]).
 #![allow(dead_code)]

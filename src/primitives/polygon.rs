@@ -318,9 +318,13 @@ impl<S: Scalar> Polygon<S> {
         } else {
             S::ONE
         };
+        // Vertex and normal `i` (indices wrap once; `get`, not indexing:
+        // the render path has no panic path).
+        let wrap = |i: usize| if i >= n { i - n } else { i };
+        let normal_at = |i: usize| normals.get(wrap(i)).copied().unwrap_or(self.normal);
         // s_i: vertex i relative to p; r_i: its length.
         let s = |i: usize| {
-            let v = verts[i % n];
+            let v = verts.get(wrap(i)).copied().unwrap_or(p);
             let d = (v.axis(iu) - p.axis(iu), v.axis(iv) - p.axis(iv));
             if S::NORMALIZE_PRESCALE {
                 (d.0 * f, d.1 * f)
@@ -351,18 +355,18 @@ impl<S: Scalar> Polygon<S> {
             let r_next = len(s_next);
             // At a vertex: its own normal.
             if r_cur == S::ZERO {
-                return normals[i];
+                return normal_at(i);
             }
             // On edge (i, i+1): interpolate linearly along it.
             let cross = s_cur.0 * s_next.1 - s_cur.1 * s_next.0;
             let dot = s_cur.0 * s_next.0 + s_cur.1 * s_next.1;
             if cross == S::ZERO && dot < S::ZERO {
-                let ni = normals[i];
-                let nj = normals[(i + 1) % n];
+                let ni = normal_at(i);
+                let nj = normal_at(i + 1);
                 return ni.scale(r_next) + nj.scale(r_cur);
             }
             let w = (half_tan(s_prev, s_cur, r_prev, r_cur) + half_tan(s_cur, s_next, r_cur, r_next)) / r_cur;
-            sum = sum + normals[i].scale(w);
+            sum = sum + normal_at(i).scale(w);
             wsum = wsum + w;
             s_prev = s_cur;
             r_prev = r_cur;

@@ -19,21 +19,22 @@ use embedded_graphics_core::pixelcolor::raw::{RawU16, ToBytes};
 use embedded_graphics_core::pixelcolor::{PixelColor, Rgb565};
 use embedded_graphics_core::primitives::Rectangle;
 use embedded_graphics_core::Pixel;
-use raypack::demo::{build_demo_scene, demo_camera, DemoScene};
+use raypack::demo::{build_demo_scene_for, demo_camera_for};
 use raypack::draw_target::{DrawError, FromRgb8};
 use raypack::output::{Dither, Fnv1a, ImageChecksums, CHECKSUM_DITHER};
 use raypack::render::{Renderer, Rgb8};
 use raypack::trace::{RayStats, TraceSettings, Tracer};
-use raypack::Scalar;
+use crate::{SceneSlot, SlotScalar};
 
-/// Builds the core's demo scene in `scene` (which must be empty, typically
-/// a `static`, so the scene is never copied on the stack), then renders it
+/// Builds the core's demo scene for scalar `S` in `slot` (typically a
+/// `static`, so the scene is never copied on the stack; a Q8.24 scene is
+/// built in `f32` and converted into its frame), then renders it
 /// at [`IMAGE_WIDTH`](crate::IMAGE_WIDTH)×[`IMAGE_HEIGHT`](crate::IMAGE_HEIGHT)
 /// with packets of width `W` and draws it on `target` with its top-left
 /// pixel at `top_left`, band by band through `band` (RGB565 colours get the
 /// checksum's Bayer 4×4 dither, by image position). Returns the rays traced.
-pub fn render_demo_into<S: Scalar, const W: usize, D>(
-    scene: &mut DemoScene<S>,
+pub fn render_demo_into<S: SlotScalar, const W: usize, D>(
+    slot: &mut SceneSlot,
     band: &mut [Rgb8],
     target: &mut D,
     top_left: Point,
@@ -42,8 +43,9 @@ where
     D: DrawTarget,
     D::Color: FromRgb8,
 {
-    build_demo_scene(scene).map_err(Failure::Scene)?;
-    let camera = demo_camera::<S>(crate::IMAGE_WIDTH, crate::IMAGE_HEIGHT).map_err(Failure::Camera)?;
+    let (scene, described) = S::empty(slot);
+    let frame = build_demo_scene_for(scene, described).map_err(Failure::Scene)?;
+    let camera = demo_camera_for::<S>(&frame, crate::IMAGE_WIDTH, crate::IMAGE_HEIGHT).map_err(Failure::Camera)?;
     let tracer: Tracer<'_, S> = Tracer::new(scene.view(), TraceSettings::default()).map_err(Failure::Trace)?;
     let renderer = Renderer::new(tracer, camera);
     let mut stats = RayStats::default();
@@ -157,8 +159,8 @@ impl DrawTarget for ChecksumPanel {
 
 /// [`render_demo_into`] a [`ChecksumPanel`]: the checksums and ray counts of
 /// the demo image, as `targets/checksums.txt` records them.
-pub fn render_demo<S: Scalar, const W: usize>(scene: &mut DemoScene<S>, band: &mut [Rgb8]) -> Result<ImageChecksums, Failure> {
+pub fn render_demo<S: SlotScalar, const W: usize>(slot: &mut SceneSlot, band: &mut [Rgb8]) -> Result<ImageChecksums, Failure> {
     let mut panel = ChecksumPanel::new();
-    let rays = render_demo_into::<S, W, _>(scene, band, &mut panel, Point::zero())?;
+    let rays = render_demo_into::<S, W, _>(slot, band, &mut panel, Point::zero())?;
     Ok(panel.checksums(rays))
 }

@@ -38,34 +38,28 @@ use raypack::trace::TraceError;
 use raypack::Scalar;
 
 pub use raypack::demo::DemoScene;
-pub use raypack::Fixed;
+pub use raypack::Fixed32;
 
-/// Memory for one demo scene, of either scalar: a board that renders with
-/// `f32` and then with [`Fixed`] reuses the same bytes (as big as the larger
-/// scene) instead of holding both. Meant to live in a `static`, so the scene
-/// is built where it lies and never copied on the stack.
-pub union SceneSlot {
+/// Memory for the demo scene of either scalar, meant to live in a `static`
+/// so the scene is built where it lies and never copied on the stack: the
+/// scene itself (a board that renders with `f32` and then with [`Fixed32`]
+/// reuses the same bytes), and the `f32` description the Q8.24 scene is
+/// converted from ([`raypack::demo::build_demo_scene_for`]).
+pub struct SceneSlot {
+    scene: SceneUnion,
+    described: DemoScene<f32>,
+}
+
+/// One demo scene of either scalar, in the same bytes.
+union SceneUnion {
     f32: core::mem::ManuallyDrop<DemoScene<f32>>,
-    fixed: core::mem::ManuallyDrop<DemoScene<Fixed>>,
+    fixed32: core::mem::ManuallyDrop<DemoScene<Fixed32>>,
 }
 
 impl SceneSlot {
     /// A slot holding an empty `f32` scene.
     pub const fn new() -> Self {
-        SceneSlot { f32: core::mem::ManuallyDrop::new(DemoScene::new()) }
-    }
-    /// Empties the slot as an `f32` scene and returns it (any previous
-    /// scene is forgotten; scenes own no resources).
-    pub fn empty_f32(&mut self) -> &mut DemoScene<f32> {
-        self.f32 = core::mem::ManuallyDrop::new(DemoScene::new());
-        // SAFETY: the `f32` field was written just above.
-        unsafe { &mut self.f32 }
-    }
-    /// Empties the slot as a [`Fixed`] scene and returns it.
-    pub fn empty_fixed(&mut self) -> &mut DemoScene<Fixed> {
-        self.fixed = core::mem::ManuallyDrop::new(DemoScene::new());
-        // SAFETY: the `fixed` field was written just above.
-        unsafe { &mut self.fixed }
+        SceneSlot { scene: SceneUnion { f32: core::mem::ManuallyDrop::new(DemoScene::new()) }, described: DemoScene::new() }
     }
 }
 
@@ -75,10 +69,37 @@ impl Default for SceneSlot {
     }
 }
 
+/// A scalar the firmware renders with: its report name and its place in a
+/// [`SceneSlot`].
+pub trait SlotScalar: Scalar + ScalarName {
+    /// Empties `slot` as a scene of this scalar (any previous scene is
+    /// forgotten; scenes own no resources) and returns it with the (empty)
+    /// `f32` description it may be converted from.
+    fn empty(slot: &mut SceneSlot) -> (&mut DemoScene<Self>, &mut DemoScene<f32>);
+}
+
+impl SlotScalar for f32 {
+    fn empty(slot: &mut SceneSlot) -> (&mut DemoScene<f32>, &mut DemoScene<f32>) {
+        slot.scene.f32 = core::mem::ManuallyDrop::new(DemoScene::new());
+        slot.described = DemoScene::new();
+        // SAFETY: the `f32` field was written just above.
+        (unsafe { &mut slot.scene.f32 }, &mut slot.described)
+    }
+}
+
+impl SlotScalar for Fixed32 {
+    fn empty(slot: &mut SceneSlot) -> (&mut DemoScene<Fixed32>, &mut DemoScene<f32>) {
+        slot.scene.fixed32 = core::mem::ManuallyDrop::new(DemoScene::new());
+        slot.described = DemoScene::new();
+        // SAFETY: the `fixed32` field was written just above.
+        (unsafe { &mut slot.scene.fixed32 }, &mut slot.described)
+    }
+}
+
 /// The name a scalar is reported under: the first column of
 /// `targets/checksums.txt` and the `SCALAR` of `SCALAR.key=value`.
 pub trait ScalarName {
-    /// `f32`, `fixed`, ...
+    /// `f32`, `fixed32`, ...
     const NAME: &'static str;
 }
 
@@ -86,8 +107,8 @@ impl ScalarName for f32 {
     const NAME: &'static str = "f32";
 }
 
-impl ScalarName for Fixed {
-    const NAME: &'static str = "fixed";
+impl ScalarName for Fixed32 {
+    const NAME: &'static str = "fixed32";
 }
 
 /// Image width rendered by every firmware.
@@ -137,9 +158,9 @@ pub use draw::{render_demo, render_demo_into, ChecksumPanel, Probe};
 /// under the name `scalar`, with the time as instructions retired under
 /// QEMU's `-icount shift=0` (`SCALAR.instructions=N`); returns whether the
 /// render ran.
-pub fn run<S: Scalar, const W: usize>(c: &mut impl Console, clock: &mut impl Clock, scalar: &str, scene: &mut DemoScene<S>, band: &mut [Rgb8]) -> bool {
+pub fn run<S: SlotScalar, const W: usize>(c: &mut impl Console, clock: &mut impl Clock, scalar: &str, slot: &mut SceneSlot, band: &mut [Rgb8]) -> bool {
     let rate = clock.rate();
-    let (r, ticks) = measure(clock, || render_demo::<S, W>(scene, band));
+    let (r, ticks) = measure(clock, || render_demo::<S, W>(slot, band));
     match r {
         Ok(r) => {
             report_render(c, scalar, W, &r);
@@ -324,10 +345,10 @@ mod tests {
         panic!("no {scalar} {key} in targets/checksums.txt")
     }
 
-    fn checksums<S: Scalar, const W: usize>(rows: usize) -> ImageChecksums {
-        let mut scene = DemoScene::<S>::new();
+    fn checksums<S: SlotScalar, const W: usize>(rows: usize) -> ImageChecksums {
+        let mut slot = Box::new(SceneSlot::new());
         let mut band = vec![[0u8; 3]; band_pixels(rows)];
-        render_demo::<S, W>(&mut scene, &mut band).unwrap()
+        render_demo::<S, W>(&mut slot, &mut band).unwrap()
     }
 
     #[test]
@@ -337,8 +358,9 @@ mod tests {
         for (name, c) in [
             ("f32", checksums::<f32, 8>(2)),
             ("f32", checksums::<f32, 1>(1)),
-            ("fixed", checksums::<Fixed, 1>(1)),
-            ("fixed", checksums::<Fixed, 4>(2)),
+            ("fixed32", checksums::<Fixed32, 1>(1)),
+            ("fixed32", checksums::<Fixed32, 4>(2)),
+            ("fixed32", checksums::<Fixed32, 8>(2)),
         ] {
             assert_eq!(c.rgb888, recorded(name, "rgb888"), "{name} rgb888");
             assert_eq!(c.rgb565, recorded(name, "rgb565-bayer4"), "{name} rgb565");
@@ -349,9 +371,9 @@ mod tests {
 
     #[test]
     fn a_band_shorter_than_a_row_is_reported() {
-        let mut scene = DemoScene::<f32>::new();
+        let mut slot = Box::new(SceneSlot::new());
         let mut band = vec![[0u8; 3]; 10];
-        assert!(matches!(render_demo::<f32, 1>(&mut scene, &mut band), Err(Failure::Buffer(_))));
+        assert!(matches!(render_demo::<f32, 1>(&mut slot, &mut band), Err(Failure::Buffer(_))));
     }
 
     /// A clock advancing 40 ticks (at 25 MHz: 1600 instructions) per reading.
@@ -376,10 +398,10 @@ mod tests {
 
     #[test]
     fn the_report_names_each_key_after_the_scalar() {
-        let mut scene = DemoScene::<f32>::new();
+        let mut slot = Box::new(SceneSlot::new());
         let mut band = vec![[0u8; 3]; band_pixels(2)];
         let mut out = Text(String::new());
-        assert!(run::<f32, 4>(&mut out, &mut Fake(0), "fixed32", &mut scene, &mut band));
+        assert!(run::<f32, 4>(&mut out, &mut Fake(0), "fixed32", &mut slot, &mut band));
         let lines: Vec<&str> = out.0.lines().collect();
         assert!(lines.contains(&"fixed32.instructions=1600"), "{lines:?}");
         assert!(lines.contains(&"fixed32.pixels=20480"), "{lines:?}");

@@ -10,17 +10,15 @@
 
 use crate::draw::render_demo_into;
 use crate::timing::{measure, Clock};
-use crate::{console, Failure, IMAGE_HEIGHT, IMAGE_WIDTH};
+use crate::{console, Failure, SceneSlot, SlotScalar, IMAGE_HEIGHT, IMAGE_WIDTH};
 use embedded_graphics::image::GetPixel;
 use embedded_graphics::mono_font::ascii::FONT_6X10;
 use embedded_graphics::mono_font::MonoFont;
 use embedded_graphics::pixelcolor::{BinaryColor, Rgb565, RgbColor};
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
-use raypack::demo::DemoScene;
 use raypack::render::Rgb8;
 use raypack::trace::RayStats;
-use raypack::Scalar;
 
 /// Panel width in pixels (landscape).
 pub const PANEL_WIDTH: u32 = 240;
@@ -48,11 +46,11 @@ pub struct Frame {
 /// with [`render_demo_into`] (scalar `S`, packet width `W`, band buffer
 /// `band`), timed by `clock`, then writes the label: `raypack`, `scalar`,
 /// the frame time and the rays.
-pub fn show_frame<S: Scalar, const W: usize, D>(
+pub fn show_frame<S: SlotScalar, const W: usize, D>(
     display: &mut D,
     clock: &mut impl Clock,
     scalar: &str,
-    scene: &mut DemoScene<S>,
+    slot: &mut SceneSlot,
     band: &mut [Rgb8],
 ) -> Result<Frame, Failure>
 where
@@ -60,7 +58,7 @@ where
 {
     display.clear(Rgb565::BLACK).map_err(|_| Failure::Target)?;
     let rate = clock.rate();
-    let (r, ticks) = measure(clock, || render_demo_into::<S, W, D>(scene, band, display, IMAGE_TOP_LEFT));
+    let (r, ticks) = measure(clock, || render_demo_into::<S, W, D>(slot, band, display, IMAGE_TOP_LEFT));
     let frame = Frame { micros: rate.micros(ticks), rays: r? };
     draw_label(display, scalar, &frame).map_err(|_| Failure::Target)?;
     Ok(frame)
@@ -172,7 +170,7 @@ mod tests {
     use crate::timing::TickRate;
     use embedded_graphics::pixelcolor::raw::{RawU16, ToBytes};
     use embedded_graphics::text::{Baseline, Text};
-    use raypack::Fixed;
+    use raypack::Fixed32;
 
     /// A 240×135 RGB565 panel in memory: a framebuffer, and the FNV-1a of
     /// the wire bytes (high byte first) of every pixel it is sent, in the
@@ -244,8 +242,8 @@ mod tests {
         }
     }
 
-    fn panel_stream<S: Scalar>() -> (u32, u32, u32) {
-        let mut scene = DemoScene::<S>::new();
+    fn panel_stream<S: SlotScalar>() -> (u32, u32, u32) {
+        let mut scene = Box::new(SceneSlot::new());
         let mut band = vec![[0u8; 3]; IMAGE_WIDTH as usize * 8];
         let mut panel = WirePanel::new();
         render_demo_into::<S, 1, _>(&mut scene, &mut band, &mut panel, IMAGE_TOP_LEFT).unwrap();
@@ -254,7 +252,7 @@ mod tests {
 
     #[test]
     fn the_panel_receives_the_rgb565_stream_the_firmware_checksums() {
-        for (name, (wire, sent, fills)) in [("f32", panel_stream::<f32>()), ("fixed", panel_stream::<Fixed>())] {
+        for (name, (wire, sent, fills)) in [("f32", panel_stream::<f32>()), ("fixed32", panel_stream::<Fixed32>())] {
             assert_eq!(wire, recorded(name, "rgb565-bayer4"), "{name}: the panel's RGB565 stream");
             assert_eq!(sent, IMAGE_WIDTH * IMAGE_HEIGHT);
             // One fill_contiguous per band of 8 rows: one address window and
@@ -265,13 +263,13 @@ mod tests {
 
     #[test]
     fn the_frame_shows_the_image_and_a_label_beside_it() {
-        let mut scene = DemoScene::<Fixed>::new();
+        let mut scene = Box::new(SceneSlot::new());
         let mut band = vec![[0u8; 3]; IMAGE_WIDTH as usize * 8];
         let mut panel = WirePanel::new();
         let mut clock = Millis(0);
-        let frame = show_frame::<Fixed, 1, _>(&mut panel, &mut clock, "fixed", &mut scene, &mut band).unwrap();
+        let frame = show_frame::<Fixed32, 1, _>(&mut panel, &mut clock, "fixed32", &mut scene, &mut band).unwrap();
         assert_eq!(frame.micros, 1000);
-        assert_eq!(frame.rays.total(), recorded("fixed", "rays") as u64);
+        assert_eq!(frame.rays.total(), recorded("fixed32", "rays") as u64);
         // The image, read back from the framebuffer after the label: intact.
         let mut h = Fnv::new();
         for y in 0..IMAGE_HEIGHT {
@@ -280,7 +278,7 @@ mod tests {
                 h.write(&RawU16::from(c).to_be_bytes());
             }
         }
-        assert_eq!(h.finish(), recorded("fixed", "rgb565-bayer4"));
+        assert_eq!(h.finish(), recorded("fixed32", "rgb565-bayer4"));
         // The label: white pixels right of the image, black margins above
         // and below the image.
         let white = (IMAGE_WIDTH..PANEL_WIDTH).flat_map(|x| (0..PANEL_HEIGHT).map(move |y| (x, y))).filter(|&(x, y)| panel.at(x, y) == Rgb565::WHITE).count();

@@ -110,13 +110,13 @@ mod tests {
     use crate::panel::{show_frame, IMAGE_TOP_LEFT, PANEL_HEIGHT, PANEL_WIDTH};
     use crate::tests::{recorded, Fnv};
     use crate::timing::{Clock, TickRate};
-    use crate::{DemoScene, IMAGE_HEIGHT, IMAGE_WIDTH};
+    use crate::{SceneSlot, IMAGE_HEIGHT, IMAGE_WIDTH};
     use core::convert::Infallible;
     use embedded_graphics::geometry::OriginDimensions;
     use mipidsi::models::ST7789;
     use mipidsi::options::{ColorInversion, Orientation, Rotation};
     use mipidsi::Builder;
-    use raypack::Fixed;
+    use raypack::Fixed32;
     use std::cell::RefCell;
     use std::rc::Rc;
 
@@ -188,9 +188,9 @@ mod tests {
         let mut display = panel(&wire);
         assert_eq!(display.size(), embedded_graphics::geometry::Size::new(PANEL_WIDTH, PANEL_HEIGHT));
         let init_commands = wire.borrow().commands.len();
-        let mut scene = DemoScene::<Fixed>::new();
+        let mut scene = Box::new(SceneSlot::new());
         let mut band = vec![[0u8; 3]; IMAGE_WIDTH as usize * 8];
-        render_demo_into::<Fixed, 1, _>(&mut scene, &mut band, &mut display, IMAGE_TOP_LEFT).unwrap();
+        render_demo_into::<Fixed32, 1, _>(&mut scene, &mut band, &mut display, IMAGE_TOP_LEFT).unwrap();
         let w = wire.borrow();
         let mut h = Fnv::new();
         let mut bytes = 0;
@@ -204,7 +204,7 @@ mod tests {
         }
         // Every byte written to the panel's memory, in order, high byte
         // first: the image the QEMU boards checksum.
-        assert_eq!(h.finish(), recorded("fixed", "rgb565-bayer4"));
+        assert_eq!(h.finish(), recorded("fixed32", "rgb565-bayer4"));
         assert_eq!(bytes as u32, 2 * IMAGE_WIDTH * IMAGE_HEIGHT);
         assert_eq!(bursts, IMAGE_HEIGHT / 8);
     }
@@ -223,9 +223,9 @@ mod tests {
         }
         let wire = Rc::new(RefCell::new(Wire::default()));
         let mut display = panel(&wire);
-        let mut scene = DemoScene::<Fixed>::new();
+        let mut scene = Box::new(SceneSlot::new());
         let mut band = vec![[0u8; 3]; IMAGE_WIDTH as usize * 8];
-        let frame = show_frame::<Fixed, 1, _>(&mut display, &mut Counter(0), "fixed", &mut scene, &mut band).unwrap();
+        let frame = show_frame::<Fixed32, 1, _>(&mut display, &mut Counter(0), "fixed32", &mut scene, &mut band).unwrap();
         assert_eq!(frame.micros, 7);
         // The clear: the whole panel in repeated-pixel batches.
         let w = wire.borrow();

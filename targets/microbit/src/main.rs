@@ -1,5 +1,5 @@
 //! raypack on a Cortex-M0 with 16 KiB of RAM (QEMU `microbit`): the demo
-//! scene at 160×128 in soft-float single precision and then in 32.32 fixed
+//! scene at 160×128 in soft-float single precision and then in Q8.24 fixed
 //! point, one ray at a time (width 1), one image row per band, reported over
 //! semihosting.
 //!
@@ -15,7 +15,7 @@ use cortex_m_rt::{entry, exception, ExceptionFrame};
 use cortex_m_semihosting::{debug, hio};
 use raypack::render::Rgb8;
 use raypack_firmware_common::timing::systick::{self, SysTick};
-use raypack_firmware_common::{self as fw, stack, Console, Fixed, SceneSlot};
+use raypack_firmware_common::{self as fw, stack, Console, Fixed32, SceneSlot};
 
 /// Packet width: the scalar path (no SIMD, and the smallest stack).
 const WIDTH: usize = 1;
@@ -77,9 +77,9 @@ fn main() -> ! {
 
     // SAFETY: the only references to these statics, taken once.
     let (slot, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", slot.empty_f32(), band);
-    // The same scene again in 32.32 fixed point, in the same memory.
-    let ok_fixed = fw::run::<Fixed, WIDTH>(&mut con, &mut clock, "fixed", slot.empty_fixed(), band);
+    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", slot, band);
+    // The same scene again in Q8.24 fixed point, in the same memory.
+    let ok_fixed = fw::run::<Fixed32, WIDTH>(&mut con, &mut clock, "fixed32", slot, band);
     let ok = ok_f32 && ok_fixed && clock_ok;
 
     // SAFETY: `[bottom, top)` is the painted stack region.

@@ -1,6 +1,7 @@
 //! raypack on a Cortex-M4F (QEMU `mps2-an386`): the demo scene at 160×128
-//! in hardware single precision, 8-wide packets, band by band, reported over
-//! semihosting. Also checks that the FPU computes plain IEEE 754: no
+//! in hardware single precision, 8-wide packets, band by band (its main
+//! path), then in Q8.24 fixed point one ray at a time (for comparison),
+//! reported over semihosting. Also checks that the FPU computes plain IEEE 754: no
 //! flush-to-zero, no default-NaN mode, round to nearest.
 #![no_std]
 #![no_main]
@@ -10,7 +11,7 @@ use cortex_m_rt::{entry, exception, ExceptionFrame};
 use cortex_m_semihosting::{debug, hio};
 use raypack::render::Rgb8;
 use raypack_firmware_common::timing::systick::{self, SysTick};
-use raypack_firmware_common::{self as fw, stack, Console, DemoScene};
+use raypack_firmware_common::{self as fw, stack, Console, Fixed32, SceneSlot};
 
 /// Packet width: 8 lanes (the FPU is scalar, but the width is what the
 /// host's widest path uses, and the checksum must not depend on it).
@@ -24,7 +25,7 @@ const STACK_WINDOW: usize = 64 * 1024;
 /// SysTick counts with CLKSOURCE = processor clock.
 const CPU_HZ: u32 = 25_000_000;
 
-static mut SCENE: DemoScene<f32> = DemoScene::new();
+static mut SCENE: SceneSlot = SceneSlot::new();
 static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
 
 extern "C" {
@@ -94,8 +95,11 @@ fn main() -> ! {
     let clock_ok = fw::check_clock(&mut con, &mut clock, "systick");
 
     // SAFETY: the only references to these statics, taken once.
-    let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let ok = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", scene, band);
+    let (slot, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
+    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", slot, band);
+    // The same scene in Q8.24 fixed point, one ray at a time.
+    let ok_fixed = fw::run::<Fixed32, 1>(&mut con, &mut clock, "fixed32", slot, band);
+    let ok = ok_f32 && ok_fixed;
 
     // SAFETY: `[bottom, top)` is the painted stack window.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };

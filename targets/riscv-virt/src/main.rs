@@ -1,5 +1,5 @@
 //! raypack on RV32IMAC (QEMU riscv32 `virt`, `-bios none`): the demo scene
-//! at 160×128 in soft-float single precision and then in 32.32 fixed point,
+//! at 160×128 in soft-float single precision and then in Q8.24 fixed point,
 //! 4-wide packets, band by band, reported over semihosting.
 #![no_std]
 #![no_main]
@@ -7,7 +7,7 @@
 use core::ptr::{addr_of, addr_of_mut};
 use raypack::render::Rgb8;
 use raypack_firmware_common::timing::mtime::Mtime;
-use raypack_firmware_common::{self as fw, stack, Console, Fixed, SceneSlot};
+use raypack_firmware_common::{self as fw, stack, Console, Fixed32, SceneSlot};
 use riscv_semihosting::{debug, hio};
 
 /// Packet width.
@@ -68,9 +68,9 @@ fn main() -> ! {
 
     // SAFETY: the only references to these statics, taken once.
     let (slot, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", slot.empty_f32(), band);
-    // The same scene again in 32.32 fixed point, in the same memory.
-    let ok_fixed = fw::run::<Fixed, WIDTH>(&mut con, &mut clock, "fixed", slot.empty_fixed(), band);
+    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", slot, band);
+    // The same scene again in Q8.24 fixed point, in the same memory.
+    let ok_fixed = fw::run::<Fixed32, WIDTH>(&mut con, &mut clock, "fixed32", slot, band);
     let ok = ok_f32 && ok_fixed && clock_ok;
 
     // SAFETY: `[bottom, top)` is the painted stack window.

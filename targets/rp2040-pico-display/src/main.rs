@@ -24,7 +24,7 @@ use mipidsi::Builder;
 use raypack::render::Rgb8;
 use raypack_firmware_common::timing::{Clock, TickRate};
 use raypack_firmware_common::spi_panel::PanelSpi;
-use raypack_firmware_common::{self as fw, panel, stack, DemoScene, ScalarName};
+use raypack_firmware_common::{self as fw, panel, stack, ScalarName};
 use rp2040_hal::clocks::{ClocksManager, InitError};
 use rp2040_hal::fugit::RateExtU32;
 use rp2040_hal::gpio::{bank0, FunctionSioOutput, FunctionSpi, Pin, PullDown, PullNone};
@@ -33,10 +33,10 @@ use rp2040_hal::pll::{common_configs::PLL_USB_48MHZ, setup_pll_blocking, PLLConf
 use rp2040_hal::xosc::setup_xosc_blocking;
 use rp2040_hal::{Clock as _, Sio, Spi, Timer, Watchdog};
 
-/// The scalar the panel renders with: 32.32 fixed point (no FPU on the
+/// The scalar the panel renders with: Q8.24 fixed point (no FPU on the
 /// M0+; integer arithmetic only, so the image is the one the QEMU boards
 /// check bit for bit).
-type PanelScalar = raypack::Fixed;
+type PanelScalar = raypack::Fixed32;
 /// Packet width: one ray at a time, as on the `microbit` QEMU board (the
 /// same Armv6-M code, so its instruction counts apply).
 const WIDTH: usize = 1;
@@ -79,7 +79,7 @@ type MosiPin = Pin<bank0::Gpio19, FunctionSpi, PullNone>;
 #[used]
 pub static BOOT2_FIRMWARE: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 
-static mut SCENE: DemoScene<PanelScalar> = DemoScene::new();
+static mut SCENE: fw::SceneSlot = fw::SceneSlot::new();
 static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
 
 /// The RP2040 timer: 64 bits of microseconds.

@@ -1,12 +1,14 @@
-//! Host speed of fixed point (32.32 `Fixed`) against `f32`: the Whitted
-//! render of the demo scene, packet widths 1 and 8, the four configurations
-//! interleaved round by round, best of N rounds each (robust on a shared
-//! machine), with the ratios.
+//! Host speed of the Q8.24 fixed point (`Fixed32`) against `f32`: the
+//! Whitted render of the demo scene (the fixed-point one converted into its
+//! frame, as firmware builds it), packet widths 1 and 8, the four
+//! configurations interleaved round by round, best of N rounds each, with
+//! the ratios.
 //!
 //! ```sh
 //! cargo run --release --example fixed_speed -- [WIDTH HEIGHT ROUNDS]
 //! ```
-use raypack::demo::{demo_camera, demo_scene};
+use raypack::demo::{build_demo_scene_for, demo_camera, demo_camera_for, demo_scene, DemoScene};
+use raypack::Fixed32;
 use raypack::prelude::*;
 use std::time::Instant;
 
@@ -26,20 +28,22 @@ fn main() {
     let a: Vec<u32> = std::env::args().skip(1).filter_map(|s| s.parse().ok()).collect();
     let (w, h, rounds) = (*a.first().unwrap_or(&160), *a.get(1).unwrap_or(&120), *a.get(2).unwrap_or(&10));
     let sf = demo_scene::<f32>().unwrap();
-    let sx = demo_scene::<Fixed>().unwrap();
+    let mut sx = Box::new(DemoScene::<Fixed32>::new());
+    let mut described = Box::new(DemoScene::<f32>::new());
+    let frame = build_demo_scene_for(&mut sx, &mut described).unwrap();
     let rf = Renderer::new(Tracer::<f32>::new(sf.view(), TraceSettings::default()).unwrap(), demo_camera(w, h).unwrap());
-    let rx = Renderer::new(Tracer::<Fixed>::new(sx.view(), TraceSettings::default()).unwrap(), demo_camera(w, h).unwrap());
+    let rx = Renderer::new(Tracer::<Fixed32>::new(sx.view(), TraceSettings::default()).unwrap(), demo_camera_for(&frame, w, h).unwrap());
     let mut img = vec![[0u8; 3]; (w * h) as usize];
     let mut best = [f64::MAX; 4];
     let mut rays = [0u64; 4];
     for _ in 0..rounds {
-        let r = [time::<f32, 1>(&rf, &mut img), time::<f32, 8>(&rf, &mut img), time::<Fixed, 1>(&rx, &mut img), time::<Fixed, 8>(&rx, &mut img)];
+        let r = [time::<f32, 1>(&rf, &mut img), time::<f32, 8>(&rf, &mut img), time::<Fixed32, 1>(&rx, &mut img), time::<Fixed32, 8>(&rx, &mut img)];
         for i in 0..4 {
             best[i] = best[i].min(r[i].0);
             rays[i] = r[i].1;
         }
     }
-    let _ = time::<Fixed, 8>(&rx, &mut img);
+    let _ = time::<Fixed32, 8>(&rx, &mut img);
     let fixed_sum = checksum(&img);
     let names = ["f32 width 1", "f32 width 8", "fixed width 1", "fixed width 8"];
     println!("demo scene {w}×{h}, Whitted, best of {rounds} interleaved rounds:");
