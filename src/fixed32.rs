@@ -858,7 +858,7 @@ const fn raw_from_f32(v: f32) -> i32 {
 
 impl Add for Fixed32 {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn add(self, o: Self) -> Self {
         // saturating_add may give i32::MIN; −MAX is the bottom of the range.
         Fixed32(self.0.saturating_add(o.0).max(RAW_MIN))
@@ -867,7 +867,7 @@ impl Add for Fixed32 {
 
 impl Sub for Fixed32 {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn sub(self, o: Self) -> Self {
         Fixed32(self.0.saturating_sub(o.0).max(RAW_MIN))
     }
@@ -875,7 +875,7 @@ impl Sub for Fixed32 {
 
 impl Neg for Fixed32 {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn neg(self) -> Self {
         // Raw values lie in [−MAX, MAX], so this is exact; saturating keeps
         // it total anyway.
@@ -885,7 +885,7 @@ impl Neg for Fixed32 {
 
 impl Mul for Fixed32 {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn mul(self, o: Self) -> Self {
         #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
         {

@@ -1,6 +1,6 @@
 //! raypack on a Cortex-M4F (QEMU `mps2-an386`): the demo scene at 160×128
-//! in hardware single precision, 8-wide packets, band by band (its main
-//! path), then in Q8.24 fixed point one ray at a time (for comparison),
+//! in hardware single precision (its main path), then in Q8.24 fixed point
+//! (for comparison), one ray at a time, band by band,
 //! reported over semihosting. Also checks that the FPU computes plain IEEE 754: no
 //! flush-to-zero, no default-NaN mode, round to nearest.
 #![no_std]
@@ -13,10 +13,10 @@ use raypack::render::Rgb8;
 use raypack_firmware_common::timing::systick::{self, SysTick};
 use raypack_firmware_common::{self as fw, stack, Console, Fixed32, SceneSlot};
 
-/// Packet width: 8 lanes (the FPU is scalar, but the width is what the
-/// host's widest path uses, and the checksum must not depend on it).
-const WIDTH: usize = 8;
-/// Rows per band: one row of 8-wide (4×2) packets.
+/// Packet width: one ray at a time (an in-order scalar FPU gains nothing
+/// from packets, and each width is another copy of the render path in flash).
+const WIDTH: usize = 1;
+/// Rows per band.
 const BAND_ROWS: usize = 2;
 /// Bytes of stack painted and watched (the stack region is most of 4 MiB).
 const STACK_WINDOW: usize = 64 * 1024;
