@@ -127,7 +127,7 @@ fn render<S: Scalar>(scene: &SceneView<'_, S>, camera: Camera<S>, bvh: bool) -> 
     let tracer = Tracer::<S, _>::with_accelerator(*scene, accel, TraceSettings::default()).unwrap();
     let mut out = Vec::new();
     for aov in [Aov::Color, Aov::Id] {
-        let renderer = Renderer { tracer, camera, aov };
+        let renderer = Renderer { tracer, camera, aov, sampling: Sampling::Centre };
         let mut img = vec![[0u8; 3]; (camera.width() * camera.height()) as usize];
         let mut stats = RayStats::default();
         renderer.render_rect::<8>(camera.full_rect(), &mut img, &mut stats).unwrap();

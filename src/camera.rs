@@ -188,6 +188,39 @@ impl<S: Scalar> Camera<S> {
     /// the image) are inactive in the returned mask.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn packet<const W: usize>(&self, x: u32, y: u32, clip: Rect) -> (RayPacket<S, W>, Mask<W>) {
+        let (ci, cj, inside) = self.pixel_lanes::<W>(x, y, clip);
+        // Screen coordinates of the pixel centres (see the module docs), as
+        // lane arithmetic: the same operations per lane as one ray at a time,
+        // with one packed divide per axis instead of one divide per lane.
+        let one = Lanes::splat(S::ONE);
+        self.through(ci * S::TWO + one, cj * S::TWO + one, inside)
+    }
+
+    /// The packet of rays through subpixel `(a, b)` of an `n × n` regular
+    /// grid in each pixel (column `a`, row `b`, both `0..n`, clamped), for
+    /// the pixels of [`Camera::packet`]`(x, y, clip)`. The subpixel's centre
+    /// is at `((a + ½)/n, (b + ½)/n)` of the pixel from its top-left corner.
+    /// With `n = 1` these are exactly [`Camera::packet`]'s rays (the offset
+    /// added is zero).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn subpixel_packet<const W: usize>(&self, x: u32, y: u32, clip: Rect, n: u32, a: u32, b: u32) -> (RayPacket<S, W>, Mask<W>) {
+        let n = n.clamp(1, 256);
+        let (a, b) = (a.min(n - 1), b.min(n - 1));
+        let (ci, cj, inside) = self.pixel_lanes::<W>(x, y, clip);
+        // `2u` for the subpixel centre `u = i + (2a + 1)/(2n)` is
+        // `(2i + 1) + d` with `d = (2a + 1 − n)/n` in (−1, 1): small
+        // numbers, in range for every scalar, one divide per axis per packet.
+        let den = S::from_i32(n as i32);
+        let dx = Lanes::splat(S::from_i32(2 * a as i32 + 1 - n as i32) / den);
+        let dy = Lanes::splat(S::from_i32(2 * b as i32 + 1 - n as i32) / den);
+        let one = Lanes::splat(S::ONE);
+        self.through(ci * S::TWO + one + dx, cj * S::TWO + one + dy, inside)
+    }
+
+    /// Column and row of each lane's pixel as scalars (0 for lanes outside
+    /// `clip` or the image) and the mask of the lanes inside.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn pixel_lanes<const W: usize>(&self, x: u32, y: u32, clip: Rect) -> (Lanes<S, W>, Lanes<S, W>, Mask<W>) {
         let (pw, _) = packet_shape(W);
         let mut ci = Lanes::<S, W>::zero();
         let mut cj = Lanes::<S, W>::zero();
@@ -208,12 +241,15 @@ impl<S: Scalar> Camera<S> {
             ci.0[l] = S::from_i32(i as i32);
             cj.0[l] = S::from_i32(j as i32);
         }
-        // Screen coordinates of the pixel centres (see the module docs), as
-        // lane arithmetic: the same operations per lane as one ray at a time,
-        // with one packed divide per axis instead of one divide per lane.
+        (ci, cj, inside)
+    }
+
+    /// The rays through the points whose doubled pixel coordinates are
+    /// `(ci, cj)` (a pixel centre: `2i + 1`), active where `inside` and the
+    /// direction could be normalized.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn through<const W: usize>(&self, ci: Lanes<S, W>, cj: Lanes<S, W>, inside: Mask<W>) -> (RayPacket<S, W>, Mask<W>) {
         let one = Lanes::splat(S::ONE);
-        let ci = ci * S::TWO + one;
-        let cj = cj * S::TWO + one;
         let sx = (ci / Lanes::splat(self.w_s) - one) * self.sx_scale;
         let sy = (one - cj / Lanes::splat(self.h_s)) * self.sy_scale;
         let dir = self.forward.splat::<W>() + self.right.splat::<W>().scale(sx) + self.up.splat::<W>().scale(sy);
@@ -270,6 +306,22 @@ mod tests {
         assert!(m4.all());
         let (q, _) = c.packet::<1>(1, 1, c.full_rect());
         assert_eq!(p4.dir.lane(3), q.dir.lane(0));
+    }
+
+    #[test]
+    fn subpixels_of_a_one_sample_grid_are_the_centres_and_others_lie_inside_the_pixel() {
+        let c = cam(6, 4);
+        for w in [(0u32, 0u32), (3, 1), (5, 3)] {
+            let (p, m) = c.packet::<4>(w.0, w.1, c.full_rect());
+            let (q, n) = c.subpixel_packet::<4>(w.0, w.1, c.full_rect(), 1, 0, 0);
+            assert_eq!((p.dir, m), (q.dir, n));
+        }
+        // 90° vfov, 6×4: sx = (2u/6 − 1)·1.5, sy = 1 − 2v/4 with u = i + 1/6
+        // (subpixel 0 of 3), v = j + 5/6 (subpixel 2 of 3).
+        let (q, _) = c.subpixel_packet::<1>(2, 1, c.full_rect(), 3, 0, 2);
+        let (u, v) = (2.0 + 1.0 / 6.0, 1.0 + 5.0 / 6.0);
+        let e = Vec3::new((2.0 * u / 6.0 - 1.0) * 1.5, 1.0 - 2.0 * v / 4.0, -1.0f32).normalize_or_zero();
+        assert!((q.dir.lane(0) - e).length() < 1e-6, "{:?}", q.dir.lane(0));
     }
 
     #[test]
