@@ -75,7 +75,8 @@ fn render_scene(args: &RenderArgs, options: &image::Options, scene: &dyn LoadedS
     let info = *scene.info();
     warn_degenerate(&args.scene, &info, args.quiet);
     let size = info.nff.camera.map_or((1, 1), |c| image::image_size(options.width, options.height, (c.width, c.height)));
-    let count = size.0.div_ceil(TILE) as u64 * size.1.div_ceil(TILE) as u64;
+    let full = raypack::camera::Rect { x: 0, y: 0, w: size.0, h: size.1 };
+    let count = image::tile_count(options.region.unwrap_or(full), TILE);
 
     // Progress on stderr, shown only once a render has run for a second,
     // and only to a terminal.
