@@ -182,10 +182,24 @@ impl<S: Scalar> Camera<S> {
     /// the image) are inactive in the returned mask.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn packet<const W: usize>(&self, x: u32, y: u32, clip: Rect) -> (RayPacket<S, W>, Mask<W>) {
+        self.subpixel_packet(x, y, clip, 1, 0, 0)
+    }
+
+    /// The packet of rays through subpixel `(a, b)` of an `n × n` regular
+    /// grid in each pixel (column `a`, row `b`, both `0..n`, clamped), for
+    /// the pixels of [`Camera::packet`]`(x, y, clip)`. The subpixel's centre
+    /// is at `((a + ½)/n, (b + ½)/n)` of the pixel from its top-left corner.
+    /// With `n = 1` these are exactly [`Camera::packet`]'s rays.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn subpixel_packet<const W: usize>(&self, x: u32, y: u32, clip: Rect, n: u32, a: u32, b: u32) -> (RayPacket<S, W>, Mask<W>) {
+        let n = n.clamp(1, 256);
+        let (a, b) = (a.min(n - 1), b.min(n - 1));
         let (pw, _) = packet_shape(W);
-        // Screen coordinates of the pixel centres (see the module docs):
-        // `u = (2i + 1)/W` and `v = (2j + 1)/H` per lane (each the one
-        // rounded quotient of two integers), then lane arithmetic.
+        // Screen coordinates of the subpixel centres (see the module docs):
+        // with `i + (a + ½)/n` for the pixel centre `i + ½`, twice it over
+        // `W` is `u = ((2i + 1)·n + 2a + 1 − n) / (n·W)` per lane, one
+        // rounded quotient of two integers (for `n = 1`: `(2i + 1)/W`);
+        // the same for `v`. Then lane arithmetic.
         let mut u = Lanes::<S, W>::zero();
         let mut v = Lanes::<S, W>::zero();
         let mut inside = Mask::<W>::splat(false);
@@ -202,8 +216,9 @@ impl<S: Scalar> Camera<S> {
             inside.set(l, inside_l);
             let i = if inside_l { i } else { 0 };
             let j = if inside_l { j } else { 0 };
-            u.0[l] = S::ratio(2 * i + 1, self.width);
-            v.0[l] = S::ratio(2 * j + 1, self.height);
+            // At most (2·65535 + 1)·256 < 2³²: no overflow.
+            u.0[l] = S::ratio((2 * i + 1) * n + 2 * a + 1 - n, n * self.width);
+            v.0[l] = S::ratio((2 * j + 1) * n + 2 * b + 1 - n, n * self.height);
         }
         let one = Lanes::splat(S::ONE);
         let sx = (u - one) * self.sx_scale;
@@ -262,6 +277,22 @@ mod tests {
         assert!(m4.all());
         let (q, _) = c.packet::<1>(1, 1, c.full_rect());
         assert_eq!(p4.dir.lane(3), q.dir.lane(0));
+    }
+
+    #[test]
+    fn subpixels_of_a_one_sample_grid_are_the_centres_and_others_lie_inside_the_pixel() {
+        let c = cam(6, 4);
+        for w in [(0u32, 0u32), (3, 1), (5, 3)] {
+            let (p, m) = c.packet::<4>(w.0, w.1, c.full_rect());
+            let (q, n) = c.subpixel_packet::<4>(w.0, w.1, c.full_rect(), 1, 0, 0);
+            assert_eq!((p.dir, m), (q.dir, n));
+        }
+        // 90° vfov, 6×4: sx = (2u/6 − 1)·1.5, sy = 1 − 2v/4 with u = i + 1/6
+        // (subpixel 0 of 3), v = j + 5/6 (subpixel 2 of 3).
+        let (q, _) = c.subpixel_packet::<1>(2, 1, c.full_rect(), 3, 0, 2);
+        let (u, v) = (2.0 + 1.0 / 6.0, 1.0 + 5.0 / 6.0);
+        let e = Vec3::new((2.0 * u / 6.0 - 1.0) * 1.5, 1.0 - 2.0 * v / 4.0, -1.0f32).normalize_or_zero();
+        assert!((q.dir.lane(0) - e).length() < 1e-6, "{:?}", q.dir.lane(0));
     }
 
     #[test]

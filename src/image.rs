@@ -34,7 +34,7 @@ use crate::fixed32::Fixed32;
 use crate::nff::{self, NffCounts, NffError, NffInfo};
 use crate::query::{AccelChoice, Accelerator, BuildSettings, Bvh, BvhError, BvhStats};
 use crate::range::RangeError;
-use crate::render::{Aov, BufferTooSmall, Renderer, Rgb8};
+use crate::render::{Aov, BufferTooSmall, Renderer, Rgb8, Sampling};
 use crate::scalar::Scalar;
 use crate::scene::{Scene, SceneError, SceneView};
 use crate::similarity::Similarity;
@@ -101,7 +101,7 @@ pub enum AccelKind {
 }
 
 /// What to render, and how. Every field but `scalar`, `mode`, `depth`,
-/// `aov` and the size leaves the bytes unchanged.
+/// `aov`, `sampling`, the size and the region leaves the bytes unchanged.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
     /// Image width; `None`: the scene's `resolution` (or, with only the
@@ -126,6 +126,14 @@ pub struct Options {
     pub scalar: ScalarKind,
     /// Instruction set of the render path (must be available on this CPU).
     pub isa: Isa,
+    /// Only this rectangle of the full image (`None`: all of it). The
+    /// pixels are exactly those of the same rectangle of the full render,
+    /// whatever the other options and wherever the cut; it must lie inside
+    /// the image.
+    pub region: Option<Rect>,
+    /// Camera rays per pixel of the colour AOV (anti-aliasing; see
+    /// [`Sampling`]).
+    pub sampling: Sampling,
 }
 
 impl Default for Options {
@@ -143,6 +151,8 @@ impl Default for Options {
             accel: AccelKind::Bvh,
             scalar: ScalarKind::F32,
             isa: Isa::best(),
+            region: None,
+            sampling: Sampling::Centre,
         }
     }
 }
@@ -173,6 +183,13 @@ pub enum Error {
     Isa(Isa),
     /// A worker thread could not be started.
     Thread(std::io::Error),
+    /// The region asked for is empty or not inside the image.
+    Region {
+        /// The region asked for.
+        region: Rect,
+        /// The image size.
+        size: (u32, u32),
+    },
 }
 
 impl core::fmt::Display for Error {
@@ -189,6 +206,9 @@ impl core::fmt::Display for Error {
             Error::Threads => f.write_str("at least one thread is needed"),
             Error::Isa(isa) => write!(f, "this CPU cannot run the {isa} instruction set"),
             Error::Thread(e) => write!(f, "cannot start a thread: {e}"),
+            Error::Region { region: r, size: (w, h) } => {
+                write!(f, "region {},{},{},{} is not inside the {w}x{h} image (X,Y,W,H: W and H at least 1, X + W <= {w}, Y + H <= {h})", r.x, r.y, r.w, r.h)
+            }
         }
     }
 }
@@ -219,10 +239,15 @@ impl From<BufferTooSmall> for Error {
 /// A rendered image: `width × height` pixels, row-major, and what it took.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
-    /// Width in pixels.
+    /// Width in pixels (of the region, if one was asked for).
     pub width: u32,
-    /// Height in pixels.
+    /// Height in pixels (of the region, if one was asked for).
     pub height: u32,
+    /// Where these pixels lie in the full image (all of it without
+    /// [`Options::region`]).
+    pub region: Rect,
+    /// Size of the full image.
+    pub full_size: (u32, u32),
     /// The pixels, row-major, `width · height` of them.
     pub pixels: Vec<Rgb8>,
     /// The rays traced, by kind.
@@ -303,6 +328,10 @@ impl<S: Scalar> LoadedScene for Loaded<'_, S> {
             Some(_) => cam.camera_in::<S>(&self.frame, width, height),
         }
         .map_err(Error::Camera)?;
+        let region = options.region.unwrap_or(camera.full_rect());
+        if !region_inside(region, (width, height)) {
+            return Err(Error::Region { region, size: (width, height) });
+        }
         // Fixed point: the whole scene must fit its range (a no-op for f32).
         self.view.check_range(camera.eye()).map_err(Error::Range)?;
         let settings = TraceSettings { mode: options.mode, max_depth: options.depth, ..TraceSettings::default() };
@@ -313,13 +342,20 @@ impl<S: Scalar> LoadedScene for Loaded<'_, S> {
         let tracer = Tracer::<'_, S, _, DEPTH>::with_accelerator(self.view, accel, settings).map_err(Error::Trace)?;
         let mut renderer = Renderer::new(tracer, camera);
         renderer.aov = options.aov;
+        renderer.sampling = options.sampling;
         let threads = threads(options.threads)?;
         let start = Instant::now();
         let tiling = Tiling { packet: options.packet, isa: options.isa, threads, tile: TILE };
-        let (pixels, stats) = render_tiles(&renderer, camera.full_rect(), &tiling, progress)?;
+        let (pixels, stats) = render_tiles(&renderer, region, &tiling, progress)?;
         let time = start.elapsed();
-        Ok(Image { width, height, pixels, stats, isa: options.isa.used_for::<S>(options.packet), threads, accel: kind, time })
+        let isa = options.isa.used_for::<S>(options.packet);
+        Ok(Image { width: region.w, height: region.h, region, full_size: (width, height), pixels, stats, isa, threads, accel: kind, time })
     }
+}
+
+/// Whether `r` is a non-empty rectangle inside an image of `size`.
+fn region_inside(r: Rect, size: (u32, u32)) -> bool {
+    r.w >= 1 && r.h >= 1 && r.x.checked_add(r.w).is_some_and(|e| e <= size.0) && r.y.checked_add(r.h).is_some_and(|e| e <= size.1)
 }
 
 /// The number of worker threads for `asked` (`None`: one per core).
@@ -525,6 +561,14 @@ pub fn render_tiles<S: Scalar, A: Accelerator<S> + Sync, const D: usize>(
     Ok((pixels, stats))
 }
 
+/// The number of tiles [`render_tiles`] cuts `rect` into with tiles of
+/// side `pitch` on the image's grid (for progress bars).
+pub fn tile_count(rect: Rect, pitch: u32) -> u64 {
+    let p = pitch.max(1) as u64;
+    let span = |a: u32, n: u32| if n == 0 { 0 } else { (a as u64 + n as u64).div_ceil(p) - a as u64 / p };
+    span(rect.x, rect.w) * span(rect.y, rect.h)
+}
+
 /// `r` clipped to `to`.
 fn clip(r: Rect, to: Rect) -> Rect {
     let x0 = r.x.max(to.x);
@@ -581,6 +625,9 @@ mod tests {
             }
         }
         assert!(tiles(Rect { x: 3, y: 3, w: 0, h: 5 }, TILE).is_empty());
+        for rect in [Rect { x: 0, y: 0, w: 1, h: 1 }, Rect { x: 31, y: 1, w: 100, h: 7 }, Rect { x: 5, y: 30, w: 64, h: 64 }, Rect { x: 2, y: 2, w: 0, h: 9 }] {
+            assert_eq!(tile_count(rect, TILE), tiles(rect, TILE).len() as u64, "{rect:?}");
+        }
         assert_eq!(tiles(Rect { x: 0, y: 0, w: 3, h: 2 }, 1).len(), 6);
     }
 
@@ -625,5 +672,90 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// `rect` cut out of a `width`-wide row-major image.
+    fn crop(pixels: &[Rgb8], width: u32, rect: Rect) -> Vec<Rgb8> {
+        let mut out = Vec::new();
+        for y in rect.y..rect.y + rect.h {
+            let at = (y * width + rect.x) as usize;
+            out.extend_from_slice(&pixels[at..at + rect.w as usize]);
+        }
+        out
+    }
+
+    #[test]
+    fn regions_are_the_same_rectangle_of_the_full_render_at_any_packet_width_and_thread_count() {
+        let scene = include_str!("../tests/scenes/extensions.nff");
+        for sampling in [Sampling::Centre, Sampling::Grid(2), Sampling::adaptive(3, 0.1)] {
+            let base = Options { width: Some(45), height: Some(37), packet: 1, threads: Some(1), sampling, ..Options::default() };
+            let full = Image::render(scene, &base).unwrap();
+            assert_eq!((full.region, full.full_size), (Rect { x: 0, y: 0, w: 45, h: 37 }, (45, 37)));
+            // Unaligned to packets (4×4), tiles (32) and adaptive blocks (16).
+            for (k, region) in [Rect { x: 0, y: 0, w: 45, h: 37 }, Rect { x: 3, y: 5, w: 30, h: 31 }, Rect { x: 31, y: 15, w: 14, h: 3 }, Rect { x: 44, y: 36, w: 1, h: 1 }, Rect { x: 17, y: 0, w: 1, h: 37 }]
+                .into_iter()
+                .enumerate()
+            {
+                let packet = [1, 4, 8, 16, 8][k];
+                let o = Options { region: Some(region), packet, threads: Some(1 + k % 3), ..base };
+                let part = Image::render(scene, &o).unwrap();
+                assert_eq!((part.width, part.height, part.region, part.full_size), (region.w, region.h, region, (45, 37)));
+                assert!(part.pixels == crop(&full.pixels, 45, region), "{sampling:?} {o:?}");
+            }
+        }
+        let scene = include_str!("../tests/scenes/balls-1.nff");
+        for region in [Rect { x: 0, y: 0, w: 0, h: 3 }, Rect { x: 10, y: 0, w: 31, h: 3 }, Rect { x: 0, y: 30, w: 1, h: 1 }, Rect { x: u32::MAX, y: 0, w: 2, h: 1 }] {
+            let o = Options { width: Some(40), height: Some(30), region: Some(region), ..Options::default() };
+            let e = Image::render(scene, &o).unwrap_err();
+            assert!(matches!(e, Error::Region { size: (40, 30), .. }), "{e}");
+            assert!(e.to_string().contains("not inside the 40x30 image"), "{e}");
+        }
+    }
+
+    #[test]
+    fn anti_aliasing_gives_the_same_bytes_and_rays_at_every_packet_width_thread_count_and_isa() {
+        let scene = include_str!("../tests/scenes/extensions.nff");
+        let plain = Image::render(scene, &Options { width: Some(36), height: Some(28), packet: 1, threads: Some(1), ..Options::default() }).unwrap();
+        for sampling in [Sampling::Grid(1), Sampling::Grid(3), Sampling::adaptive(2, 0.3), Sampling::adaptive(4, 0.0), Sampling::adaptive(3, 3.0)] {
+            let base = Options { width: Some(36), height: Some(28), packet: 1, threads: Some(1), isa: Isa::Baseline, sampling, ..Options::default() };
+            let reference = Image::render(scene, &base).unwrap();
+            for (packet, threads) in [(4, 2), (8, 1), (16, 3)] {
+                for isa in Isa::ALL.into_iter().filter(|i| i.is_available()) {
+                    let o = Options { packet, threads: Some(threads), isa, ..base };
+                    let image = Image::render(scene, &o).unwrap();
+                    assert!(image.pixels == reference.pixels, "{o:?}");
+                    assert_eq!(image.stats.rays(), reference.stats.rays(), "{o:?}");
+                }
+            }
+            let pixels = 36 * 28;
+            match sampling {
+                // One subsample: the centre rays exactly.
+                Sampling::Grid(1) => assert_eq!((reference.pixels.clone(), reference.stats.primary), (plain.pixels.clone(), pixels)),
+                Sampling::Grid(n) => {
+                    assert_eq!(reference.stats.primary, pixels * (n as u64).pow(2));
+                    assert_ne!(reference.pixels, plain.pixels);
+                }
+                // Threshold 3 (765): nothing differs by more; the centres
+                // alone, plus the rings of the 16×16 blocks.
+                Sampling::Adaptive { threshold: 765, .. } => {
+                    assert_eq!(reference.pixels, plain.pixels);
+                    assert!(reference.stats.primary > pixels && reference.stats.primary < pixels * 3 / 2, "{:?}", reference.stats);
+                }
+                _ => {
+                    assert_ne!(reference.pixels, plain.pixels);
+                    assert!(reference.stats.primary > pixels, "{:?}", reference.stats);
+                }
+            }
+        }
+        // Threshold 0 supersamples every pixel that differs from a neighbour
+        // at all; the supersampled pixels equal those of the full grid.
+        let grid = Image::render(scene, &Options { width: Some(36), height: Some(28), sampling: Sampling::Grid(4), ..Options::default() }).unwrap();
+        let adaptive = Image::render(scene, &Options { width: Some(36), height: Some(28), sampling: Sampling::adaptive(4, 0.0), ..Options::default() }).unwrap();
+        let same = grid.pixels.iter().zip(&adaptive.pixels).filter(|(a, b)| a == b).count();
+        assert!(same > 36 * 28 * 9 / 10, "{same}");
+        // Other AOVs ignore the sampling.
+        let id = |sampling| Image::render(scene, &Options { width: Some(20), height: Some(16), aov: Aov::Id, sampling, ..Options::default() }).unwrap();
+        let (a, b) = (id(Sampling::Centre), id(Sampling::Grid(3)));
+        assert_eq!((a.pixels, a.stats.primary), (b.pixels, b.stats.primary));
     }
 }

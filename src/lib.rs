@@ -89,7 +89,7 @@ pub mod prelude {
     pub use crate::fixed::Fixed;
     pub use crate::primitives::Quadric;
     pub use crate::query::{AccelChoice, Accelerator, BruteForce, BuildSettings, Bvh, BvhError, BvhView};
-    pub use crate::render::{Aov, Renderer, Rgb8};
+    pub use crate::render::{Aov, Renderer, Rgb8, Sampling};
     pub use crate::scalar::Scalar;
     pub use crate::scene::{Material, Scene, SceneError, SceneView};
     pub use crate::trace::{Mode, RayStats, TraceError, TraceSettings, Tracer};

@@ -494,6 +494,29 @@ mod tests {
         assert_eq!(err, Err(BandError::Sink(7)));
     }
 
+    #[test]
+    fn bands_with_anti_aliasing_equal_one_rect_at_every_width() {
+        use crate::render::Sampling;
+        let scene = demo_scene::<f32>().unwrap();
+        let camera = demo_camera::<f32>(37, 19).unwrap();
+        let tracer: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
+        for sampling in [Sampling::Grid(3), Sampling::adaptive(3, 0.2)] {
+            let renderer = Renderer { sampling, ..Renderer::new(tracer, camera) };
+            let mut full = vec![[0u8; 3]; 37 * 19];
+            renderer.render_rect::<1>(camera.full_rect(), &mut full, &mut RayStats::default()).unwrap();
+            let mut plain = vec![[0u8; 3]; 37 * 19];
+            Renderer::new(tracer, camera).render_rect::<1>(camera.full_rect(), &mut plain, &mut RayStats::default()).unwrap();
+            assert_ne!(full, plain, "{sampling:?} changed nothing");
+            let one = renderer.checksums::<1>(&mut band_of(37 * 3)).unwrap();
+            for c in [renderer.checksums::<4>(&mut band_of(37 * 2)).unwrap(), renderer.checksums::<8>(&mut band_of(37 * 5)).unwrap(), renderer.checksums::<16>(&mut band_of(37 * 19)).unwrap()] {
+                assert_eq!((c.rgb888, c.rgb565), (one.rgb888, one.rgb565), "{sampling:?}");
+            }
+            let mut h = Fnv1a::new();
+            full.iter().for_each(|p| h.write(p));
+            assert_eq!(one.rgb888, h.finish(), "{sampling:?}");
+        }
+    }
+
     fn band_of(n: usize) -> Vec<Rgb8> {
         vec![[0u8; 3]; n]
     }

@@ -53,7 +53,7 @@ fn every_scene_renders_identically_with_and_without_the_bvh() {
 /// Rows `y .. y + h` of the image, width `W`.
 fn render_band<const W: usize>(scene: &SceneView<'_, f32>, tree: BvhView<'_, f32>, camera: Camera<f32>, settings: TraceSettings<f32>, y: u32, h: u32) -> (Vec<Rgb8>, RayStats) {
     let tracer = Tracer::<f32, _>::with_accelerator(*scene, tree, settings).unwrap();
-    let renderer = Renderer { tracer, camera, aov: Aov::Color };
+    let renderer = Renderer { tracer, camera, aov: Aov::Color, sampling: Sampling::Centre };
     let mut buf = vec![[0u8; 3]; (camera.width() * h) as usize];
     let mut stats = RayStats::default();
     renderer.render_rect::<W>(Rect { x: 0, y, w: camera.width(), h }, &mut buf, &mut stats).unwrap();

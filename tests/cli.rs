@@ -154,7 +154,7 @@ fn scene_without_camera_missing_file_bad_output() {
 
 #[test]
 fn usage_errors_exit_with_2() {
-    assert_eq!(raypack(&["render", &scene("balls-1.nff")]).status.code(), Some(2)); // no -o
+    assert_eq!(raypack(&["render"]).status.code(), Some(2)); // no scene
     assert_eq!(raypack(&["render", &scene("balls-1.nff"), "-o", "x.ppm", "--packet", "3"]).status.code(), Some(2));
     assert_eq!(raypack(&["render", &scene("balls-1.nff"), "-o", "x.ppm", "--threads", "0"]).status.code(), Some(2));
     assert_eq!(raypack(&["frobnicate"]).status.code(), Some(2));
@@ -334,4 +334,258 @@ fn bench_prints_one_line_per_measurement() {
     assert!(stderr(&o).contains("bad.nff: line 9, column 9"), "{}", stderr(&o));
     assert_eq!(raypack(&["bench", &scene("balls-1.nff"), "--packet", "3"]).status.code(), Some(2));
     assert_eq!(raypack(&["bench", &scene("balls-1.nff"), "--rounds", "0"]).status.code(), Some(2));
+}
+
+/// Runs raypack in `dir` with `stdin` as standard input.
+fn raypack_in(dir: &Path, args: &[&str], stdin: &[u8]) -> Output {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raypack"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run raypack");
+    child.stdin.take().unwrap().write_all(stdin).unwrap();
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn pipes_standard_input_and_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let size = ["--width", "24", "--height", "18"];
+    let file = render(dir.path(), "f.ppm", &scene("balls-1.nff"), &size);
+    let text = std::fs::read(scene("balls-1.nff")).unwrap();
+    // `balls | raypack render - -o -`: PPM on standard output by default.
+    let o = raypack_in(dir.path(), &[&["render", "-", "-o", "-", "-q"][..], &size].concat(), &text);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.stdout == file);
+    // --format png on standard output; the summary (stderr) names it.
+    let o = raypack_in(dir.path(), &[&["render", "-", "-o", "-", "--format", "png"][..], &size].concat(), &text);
+    assert!(o.status.success() && o.stdout.starts_with(b"\x89PNG"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("raypack: standard output: 24x18"), "{}", stderr(&o));
+    // --format where the name has no extension; a conflicting one is an error.
+    let o = raypack_in(dir.path(), &[&["render", "-", "-o", "noext", "--format", "ppm", "-q"][..], &size].concat(), &text);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read(dir.path().join("noext")).unwrap() == file);
+    let o = raypack_in(dir.path(), &["render", "-", "-o", "x.png", "--format", "ppm"], &text);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("the extension says png but --format says ppm"), "{}", stderr(&o));
+    // Errors in a piped scene name standard input and the line.
+    let o = raypack_in(dir.path(), &["render", "-", "-o", "-"], b"v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\ns 0 0 zero 1\n");
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("standard input: line 8"), "{}", stderr(&o));
+    assert!(o.stdout.is_empty());
+    // Without -o, a piped scene has no name to derive one from: a usage error.
+    assert_eq!(raypack_in(dir.path(), &["render", "-"], &text).status.code(), Some(2));
+    // `info -` reads standard input too.
+    let o = raypack_in(dir.path(), &["info", "-"], &text);
+    assert!(o.status.success() && String::from_utf8_lossy(&o.stdout).contains("primitives  11"));
+}
+
+#[test]
+fn default_output_is_the_scene_stem_and_never_overwrites_without_force() {
+    let dir = tempfile::tempdir().unwrap();
+    let size = ["--width", "16", "--height", "12"];
+    let o = raypack_in(dir.path(), &[&["render", &scene("balls-1.nff")][..], &size].concat(), b"");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).starts_with("raypack: balls-1.png: 16x12"), "{}", stderr(&o));
+    let out = dir.path().join("balls-1.png");
+    let first = std::fs::read(&out).unwrap();
+    assert!(first.starts_with(b"\x89PNG"));
+    // A second run refuses, and leaves the file (and nothing else) there.
+    std::fs::write(&out, b"mine").unwrap();
+    let o = raypack_in(dir.path(), &[&["render", &scene("balls-1.nff")][..], &size].concat(), b"");
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("balls-1.png: already exists (use --force"), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&out).unwrap(), b"mine");
+    assert_eq!(files_in(dir.path()), [out.clone()]);
+    // --force replaces it; --format ppm changes the default extension.
+    assert!(raypack_in(dir.path(), &[&["render", &scene("balls-1.nff"), "--force", "-q"][..], &size].concat(), b"").status.success());
+    assert_eq!(std::fs::read(&out).unwrap(), first);
+    assert!(raypack_in(dir.path(), &[&["render", &scene("balls-1.nff"), "--format", "ppm", "-q"][..], &size].concat(), b"").status.success());
+    assert!(dir.path().join("balls-1.ppm").exists());
+}
+
+/// The pixels of a PPM, PNG or part file (header and metadata skipped).
+fn pixels_of(bytes: &[u8]) -> (u32, u32, Vec<u8>) {
+    if bytes.starts_with(b"\x89PNG") {
+        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes)).read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let frame = reader.next_frame(&mut buf).unwrap();
+        buf.truncate(frame.buffer_size());
+        return (frame.width, frame.height, buf);
+    }
+    let text = String::from_utf8_lossy(&bytes[..bytes.len().min(200)]).into_owned();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    assert_eq!(lines.next(), Some("P6"));
+    let (w, h) = lines.next().unwrap().split_once(' ').unwrap();
+    let header: usize = text.lines().take_while(|l| *l != "255").map(|l| l.len() + 1).sum::<usize>() + 4;
+    (w.parse().unwrap(), h.parse().unwrap(), bytes[header..].to_vec())
+}
+
+fn crop(px: &[u8], width: u32, x: u32, y: u32, w: u32, h: u32) -> Vec<u8> {
+    (y..y + h).flat_map(|r| px[((r * width + x) * 3) as usize..((r * width + x + w) * 3) as usize].to_vec()).collect()
+}
+
+#[test]
+fn regions_are_byte_identical_crops_at_any_width_thread_count_isa_and_sampling() {
+    let dir = tempfile::tempdir().unwrap();
+    for aa in [&[][..], &["--samples", "2"][..], &["--adaptive", "0.2"][..]] {
+        let size = [&["--width", "50", "--height", "38"][..], aa].concat();
+        let (_, _, full) = pixels_of(&render(dir.path(), "full.ppm", &scene("extensions.nff"), &size));
+        for (k, (region, packet, threads, isa)) in
+            [("0,0,50,38", "1", "1", "baseline"), ("3,5,30,31", "16", "2", "auto"), ("33,1,17,2", "4", "3", "auto"), ("49,37,1,1", "8", "1", "avx2"), ("7,0,9,38", "8", "2", "baseline")].into_iter().enumerate()
+        {
+            let args = [&size[..], &["--region", region, "--packet", packet, "-j", threads, "--isa", isa]].concat();
+            let out = dir.path().join(format!("part{k}.ppm"));
+            let o = raypack(&[&["render", &scene("extensions.nff"), "-o", out.to_str().unwrap(), "-q"][..], &args].concat());
+            if !o.status.success() {
+                assert!(stderr(&o).contains("this CPU cannot run --isa avx2"), "{}", stderr(&o));
+                continue;
+            }
+            let bytes = std::fs::read(&out).unwrap();
+            let text = String::from_utf8_lossy(&bytes[..60]).into_owned();
+            let r: Vec<u32> = region.split(',').map(|v| v.parse().unwrap()).collect();
+            assert!(text.starts_with(&format!("P6\n# raypack-region x={} y={} w={} h={} full=50x38 render=", r[0], r[1], r[2], r[3])), "{text}");
+            let (w, h, px) = pixels_of(&bytes);
+            assert_eq!((w, h), (r[2], r[3]));
+            assert!(px == crop(&full, 50, r[0], r[1], r[2], r[3]), "{aa:?} region {region} packet {packet}");
+        }
+    }
+    // Not inside the image: exit 1 naming the image size; bad syntax: exit 2.
+    let o = raypack(&["render", &scene("balls-1.nff"), "-o", dir.path().join("x.ppm").to_str().unwrap(), "--width", "20", "--height", "10", "--region", "10,0,11,5"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("region 10,0,11,5 is not inside the 20x10 image"), "{}", stderr(&o));
+    for bad in ["1,2,3", "0,0,0,4", "a,b,c,d", "1,2,3,4,5"] {
+        assert_eq!(raypack(&["render", &scene("balls-1.nff"), "-o", "x.ppm", "--region", bad]).status.code(), Some(2), "{bad}");
+    }
+}
+
+/// The render farm of docs/render-farm.md: four parts, rendered one
+/// process each as a batch scheduler would run them, stitched, and compared
+/// byte for byte with the one-piece render (PNG and PPM).
+#[test]
+fn split_render_stitch_on_four_parts_equals_the_one_piece_render() {
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["png", "ppm"] {
+        let size = ["--width", "61", "--height", "45", "--adaptive", "0.3"];
+        let whole = render(dir.path(), &format!("whole.{ext}"), &scene("balls-1.nff"), &size);
+        // Four horizontal strips of ceil(45 / 4) = 12 rows, the last one shorter.
+        let mut parts = Vec::new();
+        for i in 0..4u32 {
+            let (y, h) = (i * 12, 12.min(45 - i * 12));
+            let part = format!("part-{i}.{ext}");
+            let region = format!("0,{y},61,{h}");
+            render(dir.path(), &part, &scene("balls-1.nff"), &[&size[..], &["--region", &region, "--packet", ["1", "4", "8", "16"][i as usize]]].concat());
+            parts.push(dir.path().join(part).to_string_lossy().into_owned());
+        }
+        let out = dir.path().join(format!("stitched.{ext}"));
+        let o = raypack(&[&["stitch"][..], &parts.iter().map(String::as_str).collect::<Vec<_>>(), &["-o", out.to_str().unwrap()]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(stderr(&o).contains("61x45 from 4 parts"), "{}", stderr(&o));
+        assert!(std::fs::read(&out).unwrap() == whole, "{ext}: stitched differs from the one-piece render");
+    }
+}
+
+#[test]
+fn stitch_refuses_parts_that_do_not_tile_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let part = |name: &str, region: &str, extra: &[&str]| {
+        render(dir.path(), name, &scene("balls-1.nff"), &[&["--width", "20", "--height", "10", "--region", region][..], extra].concat());
+        dir.path().join(name).to_string_lossy().into_owned()
+    };
+    let a = part("a.ppm", "0,0,10,10", &[]);
+    let b = part("b.png", "10,0,10,10", &[]);
+    let over = part("over.ppm", "5,0,10,10", &[]);
+    let other = part("other.ppm", "10,0,10,10", &["--samples", "2"]);
+    let out = dir.path().join("out.png");
+    let out_s = out.to_string_lossy().into_owned();
+    let fails = |parts: &[&str], needle: &str| {
+        let o = raypack(&[&["stitch"][..], parts, &["-o", &out_s]].concat());
+        assert_eq!(o.status.code(), Some(1), "{parts:?}: {}", stderr(&o));
+        assert_eq!(stderr(&o).lines().count(), 1, "{}", stderr(&o));
+        assert!(stderr(&o).contains(needle), "{parts:?}: {} lacks {needle}", stderr(&o));
+        assert!(!out.exists());
+    };
+    // A PPM part and a PNG part stitch together.
+    assert!(raypack(&["stitch", &a, &b, "-o", &out_s, "-q"]).status.success());
+    std::fs::remove_file(&out).unwrap();
+    fails(&[&a], "the parts leave a gap: no part covers pixel (10, 0) (100 pixels of the 20x10 image uncovered)");
+    fails(&[&a, &over, &b], "overlap at pixel (5, 0)");
+    fails(&[&a, &other], "part of another render");
+    let big = {
+        render(dir.path(), "big.ppm", &scene("balls-1.nff"), &["--width", "30", "--height", "10", "--region", "10,0,10,10"]);
+        dir.path().join("big.ppm").to_string_lossy().into_owned()
+    };
+    fails(&[&a, &big], "part of a 30x10 image, but");
+    let plain = {
+        render(dir.path(), "plain.ppm", &scene("balls-1.nff"), &["--width", "20", "--height", "10"]);
+        dir.path().join("plain.ppm").to_string_lossy().into_owned()
+    };
+    fails(&[&plain], "no raypack-region");
+    // A part whose pixels disagree with its region, and files that are no image.
+    let bytes = std::fs::read(&a).unwrap();
+    let cut = dir.path().join("cut.ppm");
+    std::fs::write(&cut, &bytes[..bytes.len() - 3]).unwrap();
+    fails(&[cut.to_str().unwrap()], "bytes of pixels");
+    let lie = dir.path().join("lie.ppm");
+    let at = bytes.windows(4).position(|w| w == b"w=10").unwrap();
+    let mut lied = bytes.clone();
+    lied[at + 3] = b'1';
+    std::fs::write(&lie, lied).unwrap();
+    fails(&[lie.to_str().unwrap()], "10x10 pixels, but its region says 11x10");
+    let junk = dir.path().join("junk.ppm");
+    std::fs::write(&junk, b"hello").unwrap();
+    fails(&[junk.to_str().unwrap()], "neither a PNG nor a binary PPM");
+    fails(&["/nonexistent/p.ppm"], "/nonexistent/p.ppm");
+    assert_eq!(raypack(&["stitch", "-o", &out_s]).status.code(), Some(2));
+}
+
+#[test]
+fn anti_aliasing_is_deterministic_and_reports_its_cost() {
+    let dir = tempfile::tempdir().unwrap();
+    let size = ["--width", "40", "--height", "30"];
+    let plain = render(dir.path(), "plain.ppm", &scene("extensions.nff"), &size);
+    for aa in [["--samples", "3"], ["--adaptive", "0.3"]] {
+        let mut reference: Option<Vec<u8>> = None;
+        for (packet, threads, isa) in [("1", "1", "baseline"), ("4", "2", "baseline"), ("8", "3", "auto"), ("16", "1", "auto"), ("8", "2", "avx2")] {
+            let args = [&size[..], &aa, &["--packet", packet, "-j", threads, "--isa", isa]].concat();
+            let out = dir.path().join("aa.ppm");
+            let o = raypack(&[&["render", &scene("extensions.nff"), "-o", out.to_str().unwrap()][..], &args].concat());
+            if !o.status.success() {
+                assert!(stderr(&o).contains("this CPU cannot run --isa"), "{}", stderr(&o));
+                continue;
+            }
+            assert!(stderr(&o).contains("raypack: anti-aliasing: ") && stderr(&o).contains("primary rays per pixel (1 without)"), "{}", stderr(&o));
+            let bytes = std::fs::read(&out).unwrap();
+            match &reference {
+                None => reference = Some(bytes),
+                Some(r) => assert!(*r == bytes, "{aa:?} packet {packet} threads {threads} isa {isa} differ"),
+            }
+        }
+        assert!(reference.unwrap() != plain, "{aa:?} changed nothing");
+    }
+    // Usage errors: --adaptive with one sample, AA of a non-colour AOV, bad values.
+    for bad in [&["--adaptive", "0.3", "--samples", "1"][..], &["--samples", "2", "--aov", "depth"], &["--adaptive", "4"], &["--adaptive", "x"], &["--samples", "0"], &["--samples", "17"]] {
+        assert_eq!(raypack(&[&["render", &scene("balls-1.nff"), "-o", "x.ppm"][..], bad].concat()).status.code(), Some(2), "{bad:?}");
+    }
+}
+
+#[test]
+fn version_and_bench_of_both_accelerators() {
+    let o = raypack(&["--version"]);
+    assert!(o.status.success());
+    assert_eq!(String::from_utf8_lossy(&o.stdout).trim(), format!("raypack {}", env!("CARGO_PKG_VERSION")));
+    let o = raypack(&["bench", &scene("balls-1.nff"), "--width", "16", "--height", "16", "--rounds", "2", "--packet", "8", "-j", "1", "--accel", "bvh,none"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert!(out.lines().nth(1).unwrap().contains("accel=bvh nodes="), "{out}");
+    let bench: Vec<_> = out.lines().filter(|l| l.starts_with("bench ")).map(fields).collect();
+    assert_eq!(bench.len(), 4, "{out}");
+    for measure in ["primary", "whitted"] {
+        let rays: Vec<_> = ["bvh", "none"].iter().map(|a| bench.iter().find(|f| f["measure"] == measure && f["accel"] == *a).expect(a)["rays"]).collect();
+        assert_eq!(rays[0], rays[1], "{out}");
+    }
 }

@@ -85,7 +85,7 @@ fn every_isa_renders_random_scenes_to_the_same_bytes() {
         let camera = random_camera(&mut rng, 29, 19);
         for aov in [Aov::Color, Aov::Depth, Aov::Normal, Aov::Id] {
             let tracer: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
-            let renderer = Renderer { tracer, camera, aov };
+            let renderer = Renderer { tracer, camera, aov, sampling: Sampling::Centre };
             check(&renderer, &format!("case {case} {aov:?}"));
         }
     }
@@ -104,9 +104,9 @@ fn every_isa_renders_bvh_scenes_to_the_bytes_of_brute_force() {
         bvh.build(&scene.view()).unwrap();
         for aov in [Aov::Color, Aov::Id] {
             let plain: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
-            let brute_force = self::plain(&Renderer { tracer: plain, camera, aov });
+            let brute_force = self::plain(&Renderer { tracer: plain, camera, aov, sampling: Sampling::Centre });
             let tree = Tracer::<f32, _>::with_accelerator(scene.view(), bvh.view(), TraceSettings::default()).unwrap();
-            check_against(&Renderer { tracer: tree, camera, aov }, brute_force, &format!("bvh case {case} {aov:?} (vs brute force)"));
+            check_against(&Renderer { tracer: tree, camera, aov, sampling: Sampling::Centre }, brute_force, &format!("bvh case {case} {aov:?} (vs brute force)"));
         }
     }
 }

@@ -210,7 +210,7 @@ pub fn render_in<S: Scalar, const W: usize>(scene: &SceneView<'_, S>, camera: Ca
 /// [`render_in`] through the accelerator `accel`, with packets of `packet`.
 pub fn render_with<S: Scalar, A: Accelerator<S> + Sync>(accel: A, scene: &SceneView<'_, S>, camera: Camera<S>, settings: TraceSettings<S>, aov: Aov, tile: u32, packet: usize) -> (Vec<Rgb8>, RayStats) {
     let tracer: Tracer<S, A> = Tracer::with_accelerator(*scene, accel, settings).unwrap();
-    let renderer = Renderer { tracer, camera, aov };
+    let renderer = Renderer { tracer, camera, aov, sampling: Sampling::Centre };
     let tiling = Tiling { packet, isa: Isa::Baseline, threads: 1, tile };
     render_tiles(&renderer, camera.full_rect(), &tiling, &|| {}).unwrap()
 }

@@ -32,7 +32,7 @@
 
 use crate::{AccelArg, Failure, IsaArg, Packet, ScalarArg};
 use raypack::dispatch::Isa;
-use raypack::image::{self, image_size, LoadedScene, Options, MAX_DEPTH};
+use raypack::image::{self, image_size, AccelKind, LoadedScene, Options, MAX_DEPTH};
 use raypack::prelude::*;
 use std::path::PathBuf;
 
@@ -64,9 +64,9 @@ pub struct BenchArgs {
     /// Maximum ray depth of the Whitted measurement.
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=MAX_DEPTH as i64))]
     depth: u32,
-    /// Acceleration structure.
-    #[arg(long, value_enum, default_value = "bvh")]
-    accel: AccelArg,
+    /// Acceleration structures to measure (comma-separated: `bvh,none` measures the tree and brute force interleaved).
+    #[arg(long, value_enum, value_delimiter = ',', default_values = ["bvh"])]
+    accel: Vec<AccelArg>,
     /// Number type.
     #[arg(long, value_enum, default_value = "f32")]
     scalar: ScalarArg,
@@ -75,6 +75,7 @@ pub struct BenchArgs {
 /// One configuration and what it measured.
 struct Config {
     measure: &'static str,
+    accel: AccelKind,
     isa: Isa,
     packet: usize,
     threads: u32,
@@ -86,7 +87,10 @@ struct Config {
 pub fn run(args: &BenchArgs) -> Result<(), Failure> {
     let text = crate::read_scene(&args.scene)?;
     let path = args.scene.display();
-    image::with_scene(&text, args.scalar.kind(), args.accel.kind(), |scene| bench_scene(args, scene)).map_err(|e| Failure(format!("{path}: {e}")))?
+    // One load: the tree is built if any configuration uses it (brute force
+    // then simply ignores it).
+    let load = if args.accel.contains(&AccelArg::Bvh) { AccelKind::Bvh } else { AccelKind::BruteForce };
+    image::with_scene(&text, args.scalar.kind(), load, |scene| bench_scene(args, scene)).map_err(|e| Failure(format!("{path}: {e}")))?
 }
 
 /// The CPU's model name (Linux), for the header.
@@ -167,14 +171,22 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
     // Configurations by the instruction set they really run with (packets
     // narrower than 8 and fixed point run the baseline whatever is asked):
     // each is measured once.
+    let mut accels: Vec<AccelKind> = Vec::new();
+    for a in &args.accel {
+        if !accels.contains(&a.kind()) {
+            accels.push(a.kind());
+        }
+    }
     let mut configs: Vec<Config> = Vec::new();
     for measure in ["primary", "whitted"] {
-        for &asked in &isas {
-            for &packet in &packets {
-                let isa = used_for(info.scalar, asked, packet);
-                for &t in &threads {
-                    if !configs.iter().any(|c| c.measure == measure && c.isa == isa && c.packet == packet && c.threads == t) {
-                        configs.push(Config { measure, isa, packet, threads: t, times: Vec::new(), stats: RayStats::default() });
+        for &accel in &accels {
+            for &asked in &isas {
+                for &packet in &packets {
+                    let isa = used_for(info.scalar, asked, packet);
+                    for &t in &threads {
+                        if !configs.iter().any(|c| c.measure == measure && c.accel == accel && c.isa == isa && c.packet == packet && c.threads == t) {
+                            configs.push(Config { measure, accel, isa, packet, threads: t, times: Vec::new(), stats: RayStats::default() });
+                        }
                     }
                 }
             }
@@ -186,7 +198,7 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
     for _ in 0..args.rounds {
         for c in configs.iter_mut() {
             let (options, slot) = if c.measure == "primary" { (&primary, 0) } else { (&whitted, 1) };
-            let options = Options { packet: c.packet, isa: c.isa, threads: Some(c.threads as usize), ..*options };
+            let options = Options { packet: c.packet, isa: c.isa, threads: Some(c.threads as usize), accel: c.accel, ..*options };
             let img = scene.render(&options, &nothing)?;
             c.times.push(img.time.as_secs_f64());
             c.stats = img.stats;
@@ -196,8 +208,8 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
                 Some(r) if *r == pixels => {}
                 Some(_) => {
                     return Err(Failure(format!(
-                        "determinism violated: the {} image of isa {} packet {} threads {} differs from the first one",
-                        c.measure, c.isa, c.packet, c.threads
+                        "determinism violated: the {} image of accel {} isa {} packet {} threads {} differs from the first one",
+                        c.measure, accel_name(c.accel), c.isa, c.packet, c.threads
                     )))
                 }
             }
@@ -208,7 +220,7 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
         let b = best(&c.times);
         let mut line = format!(
             "bench scene={name} size={width}x{height} scalar={scalar} accel={} measure={} isa={} packet={} threads={} rays={} best_s={:.9} median_s={:.9} mrays_per_s={:.3}",
-            if info.bvh.is_some() { "bvh" } else { "none" },
+            accel_name(c.accel),
             c.measure,
             c.isa,
             c.packet,
@@ -224,7 +236,7 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
         }
         let find = |packet: usize, threads: u32| {
             let isa = used_for(info.scalar, c.isa, packet);
-            configs.iter().find(|o| o.measure == c.measure && o.isa == isa && o.packet == packet && o.threads == threads)
+            configs.iter().find(|o| o.measure == c.measure && o.accel == c.accel && o.isa == isa && o.packet == packet && o.threads == threads)
         };
         if let Some(o) = find(1, c.threads) {
             line += &format!(" vs_packet1={:.2}", best(&o.times) / b);
@@ -235,6 +247,14 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
         println!("{line}");
     }
     Ok(())
+}
+
+/// How the output names an accelerator.
+fn accel_name(a: AccelKind) -> &'static str {
+    match a {
+        AccelKind::Bvh => "bvh",
+        AccelKind::BruteForce => "none",
+    }
 }
 
 /// The instruction set a configuration really runs with (see

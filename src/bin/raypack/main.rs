@@ -10,10 +10,12 @@ mod bench;
 mod info;
 mod output;
 mod render;
+mod stitch;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use raypack::image::{AccelKind, Options, ScalarKind, MAX_DEPTH};
-use raypack::render::Aov;
+use raypack::camera::Rect;
+use raypack::render::{Aov, Sampling};
 use raypack::trace::Mode;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -28,13 +30,15 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Render a scene to a PPM (binary P6) or PNG image.
+    /// Render a scene (or a region of it) to a PPM (binary P6) or PNG image.
     Render(RenderArgs),
+    /// Assemble the parts of a frame rendered with `render --region` into one image.
+    Stitch(stitch::StitchArgs),
     /// Measure primary-ray and full-render throughput of a scene, one line per measurement.
     Bench(bench::BenchArgs),
     /// Show what a scene holds: primitives by kind, lights, materials, bounds, camera.
     Info {
-        /// The NFF scene file.
+        /// The NFF scene file (`-`: standard input).
         scene: PathBuf,
     },
 }
@@ -135,10 +139,49 @@ impl AovArg {
     }
 }
 
+/// Exits with a usage error (code 2), in clap's format.
+pub fn usage_error(msg: impl std::fmt::Display) -> ! {
+    use clap::CommandFactory;
+    Cli::command().error(clap::error::ErrorKind::ArgumentConflict, msg).exit()
+}
+
+/// `X,Y,W,H` (W and H at least 1).
+fn parse_region(s: &str) -> Result<Rect, String> {
+    let v: Vec<u32> = s.split(',').map(|f| f.trim().parse::<u32>()).collect::<Result<_, _>>().map_err(|e| format!("`{s}`: {e} (expected X,Y,W,H)"))?;
+    match v[..] {
+        [x, y, w, h] if w > 0 && h > 0 => Ok(Rect { x, y, w, h }),
+        [_, _, _, _] => Err(format!("`{s}`: width and height must be at least 1")),
+        _ => Err(format!("`{s}`: expected four numbers X,Y,W,H")),
+    }
+}
+
+/// The sampling these arguments ask for (usage errors exit with 2).
+fn sampling(samples: Option<u8>, adaptive: Option<f32>, aov: AovArg) -> Sampling {
+    if (samples.is_some_and(|n| n > 1) || adaptive.is_some()) && aov != AovArg::Color {
+        usage_error("--samples and --adaptive apply to --aov color only");
+    }
+    match (samples, adaptive) {
+        (None | Some(1), None) => Sampling::Centre,
+        (Some(n), None) => Sampling::Grid(n),
+        (Some(1), Some(_)) => usage_error("--adaptive needs --samples of at least 2 (the grid of a supersampled pixel)"),
+        (n, Some(t)) => Sampling::adaptive(n.unwrap_or(3), t),
+    }
+}
+
+/// `--adaptive`: a finite threshold in [0, 3].
+fn parse_threshold(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(t) if (0.0..=3.0).contains(&t) => Ok(t),
+        _ => Err(format!("`{s}`: expected a number from 0 to 3 (POV-Ray's +A threshold, e.g. 0.3)")),
+    }
+}
+
 impl RenderArgs {
     /// The library options these arguments ask for.
     fn options(&self) -> Result<Options, Failure> {
         Ok(Options {
+            region: self.region,
+            sampling: sampling(self.samples, self.adaptive, self.aov),
             width: self.width,
             height: self.height,
             packet: self.packet.width(),
@@ -153,9 +196,24 @@ impl RenderArgs {
     }
 }
 
-/// Reads a scene file as text, with the path in the error.
+/// Reads a scene file as text (`-`: standard input), with the path in the
+/// error.
 pub fn read_scene(path: &std::path::Path) -> Result<String, Failure> {
+    if path.as_os_str() == "-" {
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut std::io::stdin().lock(), &mut text).map_err(|e| Failure(format!("standard input: {e}")))?;
+        return Ok(text);
+    }
     std::fs::read_to_string(path).map_err(|e| Failure(format!("{}: {e}", path.display())))
+}
+
+/// How a scene path is named in messages (`-` is standard input).
+pub fn scene_name(path: &std::path::Path) -> String {
+    if path.as_os_str() == "-" {
+        "standard input".into()
+    } else {
+        path.display().to_string()
+    }
 }
 
 impl IsaArg {
@@ -215,11 +273,30 @@ enum AccelArg {
 
 #[derive(clap::Args, Debug)]
 struct RenderArgs {
-    /// The NFF scene file.
+    /// The NFF scene file (`-`: standard input).
     scene: PathBuf,
-    /// Output image; the format follows the extension (.ppm or .png).
+    /// Output image (`-`: standard output); the format follows the extension (.ppm or .png).
+    /// Default: SCENE_STEM.png in the current directory, never overwriting an existing file
+    /// unless --force is given. With -o, an existing file is replaced, atomically.
     #[arg(short, long)]
-    output: PathBuf,
+    output: Option<PathBuf>,
+    /// Output format where the extension does not say which (standard output: PPM by default).
+    #[arg(long, value_enum)]
+    format: Option<output::Format>,
+    /// Overwrite an existing file at the default output name.
+    #[arg(long)]
+    force: bool,
+    /// Render only this pixel rectangle of the full image, X,Y,W,H (from the top-left);
+    /// the image is that rectangle, marked with its place for `raypack stitch`.
+    #[arg(long, value_parser = parse_region)]
+    region: Option<Rect>,
+    /// Anti-aliasing: N×N regular supersampling per pixel, box filter (1: one ray per pixel).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=16))]
+    samples: Option<u8>,
+    /// Adaptive anti-aliasing: supersample (--samples N, default 3) only pixels whose colour differs
+    /// from a neighbour's by more than T (sum of the channel differences on 0..1, as POV-Ray's +A0.3).
+    #[arg(long, value_name = "T", value_parser = parse_threshold)]
+    adaptive: Option<f32>,
     /// Image width (default: the scene's `resolution`; alone, keeps the aspect ratio).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65535))]
     width: Option<u32>,
@@ -268,6 +345,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Stitch(args) => stitch::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Info { scene } => info::run(&scene),
     };
