@@ -2,14 +2,15 @@
 # Checks the machine code of the dispatched render path (x86-64 only):
 #  1. no fused multiply-add (vfmadd/vfmsub/vfnmadd/vfnmsub) anywhere in the
 #     release binary: FMA would change the bits of the results;
-#  2. the AVX2 entry points (the render loop `dispatch::run_avx2` and the
-#     queries `dispatch::closest_hit_avx2` / `transmittance_avx2`) contain
-#     packed 256-bit `ymm` arithmetic, and the AVX-512 ones 512-bit `zmm`;
+#  2. the AVX2 entry points (the render loop `dispatch::run_avx2`, the
+#     tracer `dispatch::job_avx2` and the queries `dispatch::closest_hit_avx2`
+#     / `transmittance_avx2`) contain packed 256-bit `ymm` arithmetic, and
+#     the AVX-512 ones 512-bit `zmm`;
 #  3. the dispatched code calls no raypack packet function out of line (an
 #     out-of-line callee would be compiled for the baseline only): the only
-#     raypack calls allowed are the scalar per-lane normal helpers and, from
-#     the render loop, the queries compiled for the same instruction set
-#     (which must be called).
+#     raypack calls allowed are the per-lane patch interpolation (scalar by
+#     nature) and the tracer and queries compiled for the same instruction
+#     set (which must be called).
 # Needs objdump (Debian: binutils). Prints what it found; exits 1 on failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,13 +37,13 @@ echo "check-asm: fused multiply-add instructions in the binary: $fma"
 # Per entry point: its instruction count and how many use ymm / zmm.
 summary=$(awk '
     /^[0-9a-f]+ <.*>:$/ { if (fn != "") print fn, n, y, z; fn = ""; n = y = z = 0 }
-    /^[0-9a-f]+ <raypack::dispatch::(run|closest_hit|transmittance)_avx(2|512)<.*>:$/ || /^[0-9a-f]+ <raypack::dispatch::(run|closest_hit|transmittance)_avx(2|512)>:$/ {
-        fn = (($2 ~ /512/) ? "avx512" : "avx2") (($2 ~ /::run_/) ? " render-path" : " queries"); next }
+    /^[0-9a-f]+ <raypack::dispatch::(run|job|closest_hit|transmittance)_avx(2|512)<.*>:$/ || /^[0-9a-f]+ <raypack::dispatch::(run|job|closest_hit|transmittance)_avx(2|512)>:$/ {
+        fn = (($2 ~ /512/) ? "avx512" : "avx2") (($2 ~ /::run_/) ? " render-path" : (($2 ~ /::job_/) ? " tracer" : " queries")); next }
     fn != "" && /\t/ { n++; if (/%ymm/) y++; if (/%zmm/) z++ }
     END { if (fn != "") print fn, n, y, z }' "$asm")
 echo "check-asm: dispatched entry points (isa part instructions ymm zmm):"
 echo "$summary" | sed 's/^/    /'
-for part in render-path queries; do
+for part in render-path tracer queries; do
     ymm=$(echo "$summary" | awk -v p="$part" '$1 == "avx2" && $2 == p { s += $4 } END { print s + 0 }')
     zmm=$(echo "$summary" | awk -v p="$part" '$1 == "avx512" && $2 == p { s += $5 } END { print s + 0 }')
     [ "$ymm" -gt 0 ] || { echo "check-asm: no ymm instructions in the AVX2 $part" >&2; fail=1; }
@@ -50,17 +51,17 @@ for part in render-path queries; do
 done
 
 calls=$(awk '
-    /^[0-9a-f]+ <.*>:$/ { on = ($0 ~ /<raypack::dispatch::(run|closest_hit|transmittance)_avx(2|512)(<.*>)?>:$/); next }
+    /^[0-9a-f]+ <.*>:$/ { on = ($0 ~ /<raypack::dispatch::(run|job|closest_hit|transmittance)_avx(2|512)(<.*>)?>:$/); next }
     on && /call/ && /<raypack::/ { sub(/^.*call +[0-9a-f]+ /, ""); print }' "$asm" | sort | uniq -c)
 echo "check-asm: raypack functions called from dispatched code:"
 echo "${calls:-    (none)}" | sed 's/^/    /'
-bad=$(echo "$calls" | grep '<raypack::' | grep -vE 'Shape<S>::normal>|Polygon<S>::shading_normal>|<raypack::dispatch::(closest_hit|transmittance)_avx(2|512)' || true)
+bad=$(echo "$calls" | grep '<raypack::' | grep -vE 'Polygon<S>::shading_normal>|Tracer<S,A,_>::patch_normals>|<raypack::dispatch::(job|closest_hit|transmittance)_avx(2|512)' || true)
 if [ -n "$bad" ]; then
     echo "check-asm: packet code called out of line (compiled for the baseline only):" >&2
     echo "$bad" >&2
     fail=1
 fi
-querycalls=$(echo "$calls" | grep -cE '<raypack::dispatch::(closest_hit|transmittance)_avx(2|512)' || true)
-[ "$querycalls" -gt 0 ] || { echo "check-asm: the dispatched render loop never calls the per-ISA queries" >&2; fail=1; }
+querycalls=$(echo "$calls" | grep -cE '<raypack::dispatch::(job|closest_hit|transmittance)_avx(2|512)' || true)
+[ "$querycalls" -gt 0 ] || { echo "check-asm: the dispatched code never calls the per-ISA tracer and queries" >&2; fail=1; }
 [ "$fail" -eq 0 ] && echo "check-asm: ok"
 exit "$fail"

@@ -13,10 +13,14 @@
 //! - the render loop (camera rays, the tracer's stack, shading, pixels):
 //!   [`Renderer::render_rect`] and everything below it is `#[inline(always)]`
 //!   on x86 and compiled inside the entry point;
-//! - the two queries, closest hit and shadow transmittance (the traversal
-//!   and the primitive kernels): the renderer's accelerator is wrapped in a
-//!   type of this module whose queries call functions compiled for the same
-//!   instruction set, with the accelerator's code inlined into them.
+//! - the tracer (a packet's whole trace: shading, shadows, secondary rays),
+//!   and the two queries, closest hit and shadow transmittance (the
+//!   traversal and the primitive kernels): the renderer's accelerator is
+//!   wrapped in a type of this module whose `run` and queries call functions
+//!   compiled for the same instruction set, with the tracer's and the
+//!   accelerator's code inlined into them (`Accelerator::run` is how the
+//!   tracer hands its work over). However many places of the render loop
+//!   trace (anti-aliasing has several), the tracer is compiled once.
 //!
 //! Cutting the path at the queries keeps each function a size LLVM compiles
 //! quickly (its time grows faster than linearly with function size), and
@@ -45,7 +49,7 @@
 
 use crate::camera::Rect;
 use crate::lanes::{Lanes, Mask};
-use crate::query::{Accelerator, Hit, SceneMismatch};
+use crate::query::{Accelerator, Hit, PacketJob, SceneMismatch};
 use crate::ray::RayPacket;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
 use crate::scalar::Scalar;
@@ -203,7 +207,7 @@ unsafe fn run_avx512<K: IsaKernel>(kernel: K) -> K::Output {
 /// are made only by [`render_rect`], after run-time detection, which is
 /// what makes their `unsafe` calls sound.
 macro_rules! isa_queries {
-    ($(#[$doc:meta])* $name:ident, $closest:ident, $shadow:ident, $(#[$tf:meta])*) => {
+    ($(#[$doc:meta])* $name:ident, $job:ident, $closest:ident, $shadow:ident, $(#[$tf:meta])*) => {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug)]
         struct $name<A>(A);
@@ -211,6 +215,12 @@ macro_rules! isa_queries {
         impl<S: Scalar, A: Accelerator<S>> Accelerator<S> for $name<A> {
             fn check(&self, scene: &SceneView<'_, S>) -> Result<(), SceneMismatch> {
                 self.0.check(scene)
+            }
+            #[inline(always)]
+            fn run<J: PacketJob>(&self, job: J) -> J::Output {
+                // SAFETY: a value of this type exists only where the CPU
+                // supports the instruction set `$job` is compiled for.
+                unsafe { $job(job) }
             }
             #[inline(always)]
             fn closest_hit<const W: usize>(&self, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Hit<S, W> {
@@ -224,6 +234,14 @@ macro_rules! isa_queries {
                 // SAFETY: as for `closest_hit`.
                 unsafe { $shadow(&self.0, scene, ray, t_min, t_max, active) }
             }
+        }
+
+        /// # Safety
+        /// The CPU must support the instruction set this is compiled for.
+        #[inline(never)]
+        $(#[$tf])*
+        unsafe fn $job<J: PacketJob>(job: J) -> J::Output {
+            job.run()
         }
 
         /// # Safety
@@ -246,18 +264,18 @@ macro_rules! isa_queries {
 
 isa_queries!(
     /// Queries compiled for the baseline instruction set.
-    BaselineQueries, closest_hit_baseline, transmittance_baseline,
+    BaselineQueries, job_baseline, closest_hit_baseline, transmittance_baseline,
 );
 #[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
 isa_queries!(
     /// Queries compiled for AVX2 (made only once AVX2 was detected).
-    Avx2Queries, closest_hit_avx2, transmittance_avx2, #[target_feature(enable = "avx2")]
+    Avx2Queries, job_avx2, closest_hit_avx2, transmittance_avx2, #[target_feature(enable = "avx2")]
 );
 #[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
 isa_queries!(
     /// Queries compiled for AVX-512 F, VL, BW and DQ (made only once all
     /// four were detected).
-    Avx512Queries, closest_hit_avx512, transmittance_avx512, #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq")]
+    Avx512Queries, job_avx512, closest_hit_avx512, transmittance_avx512, #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq")]
 );
 
 /// [`Renderer::render_rect`] as an [`IsaKernel`].

@@ -1,5 +1,5 @@
 //! [`Fixed`]: the fixed-point [`Scalar`], a signed 32.32 number
-//! ([`fixed::types::I32F32`]: 64-bit storage, 32 integer and 32 fractional
+//! (an `i64` raw value: 64-bit storage, 32 integer and 32 fractional
 //! bits), for processors without a floating-point unit.
 //!
 //! # Why 32.32
@@ -41,7 +41,6 @@
 
 use crate::scalar::Scalar;
 use core::ops::{Add, Div, Mul, Neg, Sub};
-use fixed::types::I32F32;
 
 /// Raw value of the largest representable number, `2³¹ − 2⁻³²`.
 const RAW_MAX: i64 = i64::MAX;
@@ -65,17 +64,19 @@ pub const INTERMEDIATE_LIMIT: f32 = 536_870_912.0; // 2²⁹
 /// See the module documentation for the exact semantics of every operation.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Hash, Default)]
 #[repr(transparent)]
-pub struct Fixed(I32F32);
+pub struct Fixed(i64);
 
 impl core::fmt::Debug for Fixed {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        core::fmt::Display::fmt(&self.0, f)
+        core::fmt::Display::fmt(self, f)
     }
 }
 
 impl core::fmt::Display for Fixed {
+    /// The value as the shortest decimal of its nearest `f64` (exact for raw
+    /// values that fit 53 bits).
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        core::fmt::Display::fmt(&self.0, f)
+        core::fmt::Display::fmt(&self.to_f64(), f)
     }
 }
 
@@ -96,16 +97,11 @@ impl Fixed {
     /// `raw·2⁻³²`); `i64::MIN` becomes `−MAX`.
     #[cfg_attr(not(debug_assertions), inline(always))]
     pub const fn from_bits(raw: i64) -> Self {
-        Fixed(I32F32::from_bits(if raw == i64::MIN { RAW_MIN } else { raw }))
+        Fixed(if raw == i64::MIN { RAW_MIN } else { raw })
     }
     /// The raw bits (value `raw·2⁻³²`).
     #[cfg_attr(not(debug_assertions), inline(always))]
     pub const fn to_bits(self) -> i64 {
-        self.0.to_bits()
-    }
-    /// The underlying `fixed` crate value.
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    pub const fn to_i32f32(self) -> I32F32 {
         self.0
     }
     /// Converts from `f64` (rounded to nearest, saturating, NaN gives 0).
@@ -121,18 +117,6 @@ impl Fixed {
     /// Converts to `f64` (exact for values whose raw bits fit 53 bits).
     pub fn to_f64(self) -> f64 {
         self.to_bits() as f64 / RAW_ONE as f64
-    }
-}
-
-impl From<I32F32> for Fixed {
-    fn from(v: I32F32) -> Self {
-        Fixed::from_bits(v.to_bits())
-    }
-}
-
-impl From<Fixed> for I32F32 {
-    fn from(v: Fixed) -> Self {
-        v.0
     }
 }
 
@@ -173,7 +157,7 @@ impl Mul for Fixed {
         // The exact product has 64 fractional bits; round to 32 by adding half
         // an ulp and shifting (arithmetic shift: ties go towards +∞).
         let p = self.to_bits() as i128 * o.to_bits() as i128;
-        Fixed(I32F32::from_bits(saturate((p + (1i128 << (FRAC - 1))) >> FRAC)))
+        Fixed(saturate((p + (1i128 << (FRAC - 1))) >> FRAC))
     }
 }
 
@@ -219,7 +203,7 @@ impl Div for Fixed {
         } else {
             q
         };
-        Fixed(I32F32::from_bits(saturate(q)))
+        Fixed(saturate(q))
     }
 }
 

@@ -29,7 +29,6 @@
 
 use crate::camera::{CameraError, Rect};
 use crate::dispatch::{self, Isa};
-use crate::fixed::Fixed;
 use crate::fixed32::Fixed32;
 use crate::nff::{self, NffCounts, NffError, NffInfo};
 use crate::query::{AccelChoice, Accelerator, BuildSettings, Bvh, BvhError, BvhStats};
@@ -71,8 +70,6 @@ pub enum ScalarKind {
     /// 32-bit IEEE float.
     #[default]
     F32,
-    /// 32.32 fixed point ([`Fixed`]): the accurate fixed-point reference.
-    Fixed,
     /// Q8.24 fixed point with 32-bit storage ([`Fixed32`]), for
     /// processors without an FPU; the scene is converted into its small
     /// frame at load time ([`crate::similarity`]).
@@ -84,7 +81,6 @@ impl ScalarKind {
     pub fn name(self) -> &'static str {
         match self {
             ScalarKind::F32 => "f32",
-            ScalarKind::Fixed => "fixed",
             ScalarKind::Fixed32 => "fixed32",
         }
     }
@@ -393,7 +389,6 @@ fn fits(c: &NffCounts, p: usize, v: usize, m: usize, l: usize) -> bool {
 pub fn with_scene<T: Send>(text: &str, scalar: ScalarKind, accel: AccelKind, f: impl FnOnce(&dyn LoadedScene) -> T + Send) -> Result<T, Error> {
     match scalar {
         ScalarKind::F32 => with_tier::<f32, T>(text, scalar, accel, f),
-        ScalarKind::Fixed => with_tier::<Fixed, T>(text, scalar, accel, f),
         ScalarKind::Fixed32 => with_tier::<Fixed32, T>(text, scalar, accel, f),
     }
 }

@@ -15,7 +15,7 @@
 //! on the packet width.
 
 use crate::lanes::{Lanes, Mask};
-use crate::query::{Accelerator, BruteForce, Hit, SceneMismatch};
+use crate::query::{Accelerator, BruteForce, Hit, PacketJob, SceneMismatch};
 use crate::ray::RayPacket;
 use crate::scalar::Scalar;
 use crate::scene::{Material, Primitive, SceneView};
@@ -318,9 +318,17 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     }
 
     /// Traces a packet of rays (unit directions) and returns the linear
-    /// colour of each active lane (zero elsewhere).
+    /// colour of each active lane (zero elsewhere). The work runs through
+    /// the accelerator ([`Accelerator::run`]), so a renderer has one
+    /// compiled copy of the tracer however many places call this.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn trace<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
+        self.accel.run(TraceJob { tracer: self, ray, active, stats })
+    }
+
+    /// [`Tracer::trace`]'s work.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn trace_here<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
         let zero = Lanes::<S, W>::zero();
         let mut color = Vec3::new(zero, zero, zero);
         let mut stack: HVec<Pending<S, W>, D> = HVec::new();
@@ -484,6 +492,22 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 kind: RayKind::Reflected,
             });
         }
+    }
+}
+
+/// One packet's trace, as a job an accelerator runs.
+struct TraceJob<'t, 'a, 'r, 's, S, A, const D: usize, const W: usize> {
+    tracer: &'t Tracer<'a, S, A, D>,
+    ray: &'r RayPacket<S, W>,
+    active: Mask<W>,
+    stats: &'s mut RayStats,
+}
+
+impl<S: Scalar, A: Accelerator<S>, const D: usize, const W: usize> PacketJob for TraceJob<'_, '_, '_, '_, S, A, D, W> {
+    type Output = Vec3xW<S, W>;
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn run(self) -> Vec3xW<S, W> {
+        self.tracer.trace_here(self.ray, self.active, self.stats)
     }
 }
 

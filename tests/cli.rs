@@ -207,9 +207,9 @@ fn scalar_fixed_renders_close_to_f32_and_rejects_out_of_range_scenes() {
     let dir = tempfile::tempdir().unwrap();
     let args = ["--width", "32", "--height", "32"];
     let f = render(dir.path(), "f.ppm", &scene("balls-1.nff"), &args);
-    let x1 = render(dir.path(), "x1.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed", "--packet", "1", "-j", "1"]].concat());
-    let x8 = render(dir.path(), "x8.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed", "--packet", "8", "-j", "3"]].concat());
-    let x16 = render(dir.path(), "x16.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed", "--packet", "16", "-j", "2"]].concat());
+    let x1 = render(dir.path(), "x1.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed32", "--packet", "1", "-j", "1"]].concat());
+    let x8 = render(dir.path(), "x8.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed32", "--packet", "8", "-j", "3"]].concat());
+    let x16 = render(dir.path(), "x16.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed32", "--packet", "16", "-j", "2"]].concat());
     // Bit-identical across packet widths and thread counts.
     assert_eq!(x1, x8);
     assert_eq!(x1, x16);
@@ -218,13 +218,15 @@ fn scalar_fixed_renders_close_to_f32_and_rejects_out_of_range_scenes() {
     let se: f64 = f.iter().zip(&x1).map(|(a, b)| (*a as f64 - *b as f64).powi(2)).sum();
     let mse = se / f.len() as f64;
     assert!(mse == 0.0 || 10.0 * (255.0f64 * 255.0 / mse).log10() >= 35.0, "MSE {mse}");
-    // A scene beyond the fixed-point range: a one-line error, no file; f32 renders it.
+    // A scene beyond the fixed-point range (a light 10⁵ scene sizes away,
+    // beyond what the frame allows lights): a one-line error, no file; f32
+    // renders it.
     let far = dir.path().join("far.nff");
-    std::fs::write(&far, "v\nfrom 0 -9000 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 0.1\nresolution 8 8\nl 0 0 10\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
+    std::fs::write(&far, "v\nfrom 0 -5 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 0.1\nresolution 8 8\nl 0 0 500000\nf 1 1 1 1 0 1 0 1\ns 0 0 0 1\n").unwrap();
     let far_s = far.to_string_lossy().into_owned();
     let out = dir.path().join("far.ppm");
     let out_s = out.to_string_lossy().into_owned();
-    let o = raypack(&["render", &far_s, "-o", &out_s, "--quiet", "--scalar", "fixed"]);
+    let o = raypack(&["render", &far_s, "-o", &out_s, "--quiet", "--scalar", "fixed32"]);
     assert!(!o.status.success());
     let msg = stderr(&o);
     assert!(msg.contains("fixed-point"), "{msg}");
@@ -321,10 +323,10 @@ fn bench_prints_one_line_per_measurement() {
         }
     }
     // Fixed point runs on the baseline whatever is asked.
-    let o = raypack(&["bench", &scene("balls-1.nff"), "--width", "16", "--height", "16", "--rounds", "1", "--packet", "4", "-j", "1", "--scalar", "fixed"]);
+    let o = raypack(&["bench", &scene("balls-1.nff"), "--width", "16", "--height", "16", "--rounds", "1", "--packet", "4", "-j", "1", "--scalar", "fixed32"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout).unwrap();
-    assert!(out.lines().filter(|l| l.starts_with("bench ")).all(|l| fields(l)["isa"] == "baseline" && fields(l)["scalar"] == "fixed"), "{out}");
+    assert!(out.lines().filter(|l| l.starts_with("bench ")).all(|l| fields(l)["isa"] == "baseline" && fields(l)["scalar"] == "fixed32"), "{out}");
     // Errors: a bad scene names its line; bad arguments exit with 2.
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.nff");

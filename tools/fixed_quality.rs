@@ -1,8 +1,7 @@
 //! Fixed point against `f32` on scene files: PSNR of the colour image and
 //! ID-AOV agreement, through `raypack::image` (BVH, packets of 8, all cores).
 //!
-//! `cargo run --release --example fixed_quality -- SIZE SCALAR FILE...`
-//! (SCALAR: `fixed32` or `fixed`)
+//! `cargo run --release --example fixed_quality -- SIZE fixed32 FILE...`
 use raypack::image::{Image, Options, ScalarKind};
 use raypack::render::{Aov, Rgb8};
 
@@ -19,10 +18,7 @@ fn psnr(a: &[Rgb8], b: &[Rgb8]) -> f64 {
 fn main() {
     let a: Vec<String> = std::env::args().collect();
     let size: u32 = a.get(1).and_then(|s| s.parse().ok()).unwrap_or(256);
-    let scalar = match a.get(2).map(String::as_str) {
-        Some("fixed") => ScalarKind::Fixed,
-        _ => ScalarKind::Fixed32,
-    };
+    let scalar = ScalarKind::Fixed32;
     for path in a.iter().skip(3) {
         let text = std::fs::read_to_string(path).unwrap();
         let base = Options { width: Some(size), height: Some(size), ..Options::default() };

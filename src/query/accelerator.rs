@@ -35,6 +35,17 @@ impl core::fmt::Display for SceneMismatch {
 
 impl core::error::Error for SceneMismatch {}
 
+/// Packet work an accelerator runs on its caller's behalf
+/// ([`Accelerator::run`]): the tracer hands it the whole trace of a packet,
+/// so that an accelerator compiled for another instruction set (the
+/// dispatcher's wrappers) compiles the tracer with it, in one function.
+pub trait PacketJob {
+    /// What the work returns.
+    type Output;
+    /// Does the work.
+    fn run(self) -> Self::Output;
+}
+
 /// Answers closest-hit and shadow queries over a scene's data.
 ///
 /// Every implementation must return the same bits as [`crate::query::BruteForce`]
@@ -59,6 +70,14 @@ pub trait Accelerator<S: Scalar>: Copy + core::fmt::Debug {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Hit<S, W>;
+
+    /// Runs `job` (the tracer runs each packet's whole trace through this).
+    /// The default runs it in place; an accelerator compiled for another
+    /// instruction set runs it compiled for that set too.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn run<J: PacketJob>(&self, job: J) -> J::Output {
+        job.run()
+    }
 
     /// Fraction of light that reaches the end of each active ray segment
     /// `(t_min, t_max)`: every surface crossed multiplies it by the crossed

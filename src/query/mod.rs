@@ -27,7 +27,7 @@ mod brute;
 pub mod bvh;
 mod choice;
 
-pub use accelerator::{Accelerator, Hit, SceneMismatch};
+pub use accelerator::{Accelerator, Hit, PacketJob, SceneMismatch};
 pub use brute::BruteForce;
 pub use bvh::{BuildSettings, Bvh, BvhError, BvhStats, BvhView};
 pub use choice::AccelChoice;

@@ -239,4 +239,7 @@ pub const SCENES: [(&str, &str); 18] = [
 ];
 
 /// A scene big enough for every file of [`SCENES`] (gears-2 is the largest).
-pub type Big = Scene<f32, 16384, 65536, 64, 16>;
+pub type Big = BigOf<f32>;
+
+/// [`Big`] for any scalar.
+pub type BigOf<S> = Scene<S, 16384, 65536, 64, 16>;

@@ -262,7 +262,6 @@ fn accel_name(a: AccelKind) -> &'static str {
 fn used_for(scalar: image::ScalarKind, isa: Isa, packet: usize) -> Isa {
     match scalar {
         image::ScalarKind::F32 => isa.used_for::<f32>(packet),
-        image::ScalarKind::Fixed => isa.used_for::<Fixed>(packet),
         image::ScalarKind::Fixed32 => isa.used_for::<raypack::Fixed32>(packet),
     }
 }

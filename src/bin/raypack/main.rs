@@ -48,8 +48,6 @@ enum Command {
 enum ScalarArg {
     /// 32-bit IEEE float.
     F32,
-    /// 32.32 fixed point (`raypack::Fixed`): the accurate fixed-point reference, slow.
-    Fixed,
     /// Q8.24 fixed point with 32-bit storage (`raypack::Fixed32`): what FPU-less firmware runs.
     Fixed32,
 }
@@ -101,7 +99,6 @@ impl ScalarArg {
     fn kind(self) -> ScalarKind {
         match self {
             ScalarArg::F32 => ScalarKind::F32,
-            ScalarArg::Fixed => ScalarKind::Fixed,
             ScalarArg::Fixed32 => ScalarKind::Fixed32,
         }
     }
@@ -321,7 +318,7 @@ struct RenderArgs {
     /// Acceleration structure (`none`: brute force; the image is the same).
     #[arg(long, value_enum, default_value = "bvh")]
     accel: AccelArg,
-    /// Number type: 32-bit float, or 32.32 fixed point (for FPU-less targets).
+    /// Number type: 32-bit float, or the Q8.24 fixed point FPU-less firmware runs (the library also has a 32.32 `Fixed`).
     #[arg(long, value_enum, default_value = "f32")]
     scalar: ScalarArg,
     /// Instruction set of the f32 render path (the image is the same with every one).
