@@ -1454,6 +1454,8 @@ mod tests {
         assert_eq!(Fixed32::ONE.powf(Fixed32::MAX), Fixed32::ONE);
         assert_eq!(fx(2.0).powf(fx(3.0)), Fixed32::ONE);
         assert_eq!(fx(0.5).powf(Fixed32::MAX), Fixed32::ZERO);
+        // The integer algorithm and the f32 one agree to well under an 8-bit step.
+        assert!((fx(0.8).powf(fx(12.5)).to_f64() - crate::pow::powf_unit(0.8, 12.5) as f64).abs() < 1.0e-5);
     }
 
     #[test]

@@ -52,11 +52,8 @@
 //! [`crate::Fixed32`]'s `powf` is a different algorithm on purpose: integer
 //! shift-and-add `log₂`/`2^f` (a 14-entry table, no multiplies in the loops)
 //! suits an FPU-less core, where every `f32` operation above would be a
-//! soft-float call. [`powf_unit_fixed32`] is that function under this
-//! module's name, with the same domain rules.
-
-use crate::fixed32::Fixed32;
-use crate::scalar::Scalar;
+//! soft-float call. It follows the same domain rules; this module stays a
+//! leaf that depends on no scalar type.
 
 /// `log₂(1 + u)/u` on `u ∈ [√½ − 1, √2 − 1]`, degree 8, constant term
 /// first, as `f32` bit patterns (≈ 1.442695, −0.72134733, 0.48091063,
@@ -156,15 +153,6 @@ pub fn powf_unit(x: f32, e: f32) -> f32 {
     let y = select(mask(!(x > 0.0)), 0.0, y);
     let y = select(mask(!(e > 0.0)), 1.0, y);
     select(mask(x.is_nan()), 0.0, y)
-}
-
-/// [`Fixed32`]'s integer `powf` (shift-and-add `log₂` and `2^f`, see
-/// [`crate::fixed32`]) under this module's name: `x^e` for `x ∈ [0, 1]`,
-/// `e ≥ 0`, with the same domain rules as [`powf_unit`] (fixed point has no
-/// NaN or infinities). Absolute error ≤ 2⁻¹⁹.
-#[inline]
-pub fn powf_unit_fixed32(x: Fixed32, e: Fixed32) -> Fixed32 {
-    Scalar::powf(x, e)
 }
 
 #[cfg(test)]
@@ -280,13 +268,5 @@ mod tests {
         assert!(worst_rel <= 1.3e-6, "max rel error (results ≥ 1e-3) {worst_rel:e}");
         assert!(worst_rel_tiny <= 1.2e-5, "max rel error (1e-30 ≤ results < 1e-3) {worst_rel_tiny:e}");
         std::println!("powf_unit: max abs {worst_abs:e}, max rel (≥1e-3) {worst_rel:e}, max rel (≥1e-30) {worst_rel_tiny:e} over {} points", xs.len() * es.len());
-    }
-
-    #[test]
-    fn fixed32_entry_point_is_the_integer_powf() {
-        let (x, e) = (Fixed32::from_f32(0.8), Fixed32::from_f32(12.5));
-        assert_eq!(powf_unit_fixed32(x, e), x.powf(e));
-        assert!((powf_unit_fixed32(x, e).to_f32() - powf_unit(0.8, 12.5)).abs() < 1.0e-5);
-        assert_eq!(powf_unit_fixed32(Fixed32::ZERO, Fixed32::ZERO), Fixed32::ONE);
     }
 }
