@@ -172,13 +172,16 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         }
         let sampling = if self.aov == Aov::Color { self.sampling } else { Sampling::Centre };
         match sampling {
-            Sampling::Centre => self.packets::<W>(rect, rect, out, |x, y| {
+            // The closures are inlined like the functions around them: under
+            // a dispatched instruction set an out-of-line closure would be
+            // compiled for the baseline only (scripts/check-asm.sh checks).
+            Sampling::Centre => self.packets::<W>(rect, rect, out, #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))] |x, y| {
                 let (ray, active) = self.camera.packet::<W>(x, y, rect);
                 (self.shade_packet(&ray, active, stats), active)
             }),
             Sampling::Grid(_) => {
                 let n = sampling.grid();
-                self.packets::<W>(rect, rect, out, |x, y| {
+                self.packets::<W>(rect, rect, out, #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))] |x, y| {
                     let all = Mask::splat(true);
                     let (c, active) = self.supersample::<W>(x, y, rect, n, all, stats);
                     (c, active)
@@ -277,14 +280,14 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 let ex = block.x.saturating_sub(1);
                 let ey = block.y.saturating_sub(1);
                 let ring = Rect { x: ex, y: ey, w: (block.x + block.w + 1).min(width) - ex, h: (block.y + block.h + 1).min(height) - ey };
-                self.packets::<W>(ring, ring, &mut centre, |x, y| {
+                self.packets::<W>(ring, ring, &mut centre, #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))] |x, y| {
                     let (ray, active) = self.camera.packet::<W>(x, y, ring);
                     (self.shade_packet(&ray, active, stats), active)
                 });
                 let at = |x: u32, y: u32| centre.get((y - ring.y) as usize * ring.w as usize + (x - ring.x) as usize).copied().unwrap_or([0; 3]);
                 let differs = |a: Rgb8, b: Rgb8| (0..3).map(|k| a[k].abs_diff(b[k]) as u16).sum::<u16>() > threshold;
                 let (pw, _) = packet_shape(W);
-                self.packets::<W>(block, rect, out, |x, y| {
+                self.packets::<W>(block, rect, out, #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))] |x, y| {
                     let mut inside = Mask::<W>::splat(false);
                     let mut marked = Mask::<W>::splat(false);
                     let mut px = [[0u8; 3]; W];
