@@ -125,14 +125,14 @@ cargo test -q -p raypack-firmware-common --lib --features panel
 # the newest mipidsi and embedded-graphics 0.8. Resolved afresh every time:
 # `cargo generate-lockfile` ignores any lock and picks what a new application
 # would get today, so a raypack requirement that rules out what the display
-# crates need (as fixed 1.31's az ^1.3 against embedded-graphics-core
-# 0.4.1's az ~1.2 did) fails here. (The targets workspace's committed
+# crates need (as the former fixed 1.31 dependency's az ^1.3 against
+# embedded-graphics-core 0.4.1's az ~1.2 did) fails here. (The targets workspace's committed
 # Cargo.lock would hide it: it keeps whatever once resolved.)
 say "downstream crate: fresh resolve beside mipidsi, build for thumbv6m-none-eabi"
 (cd downstream-display && cargo generate-lockfile -q) \
   || die "downstream-display: raypack no longer resolves beside mipidsi and embedded-graphics (see the resolver's message above)"
-grep -E -A1 '^name = "(fixed|az|mipidsi|embedded-graphics|embedded-graphics-core)"$' downstream-display/Cargo.lock \
-  | sed -n 's/^version = "\(.*\)"/\1/p' | paste -sd' ' | sed 's/^/resolved az, embedded-graphics, embedded-graphics-core, fixed, mipidsi: /'
+awk '/^name = /{n=$3} /^version = /{v=$3; if (n ~ /^"(az|fixed|mipidsi|embedded-graphics|embedded-graphics-core|raypack)"$/) printf "%s %s  ", n, v} END{print ""}' \
+  downstream-display/Cargo.lock | tr -d '"' | sed 's/^/resolved: /'
 cargo build -q --manifest-path downstream-display/Cargo.toml --target thumbv6m-none-eabi \
   || die "downstream-display: does not build for thumbv6m-none-eabi"
 
