@@ -772,6 +772,9 @@ fn count_lights(text: &str) -> usize {
 }
 
 fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffError> {
+    // A UTF-8 byte order mark (editors on some systems write one) is not
+    // part of the first line.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut info = NffInfo { camera: None, background: [0.0; 3], counts: NffCounts::default(), lines: 0 };
     let n_lights = count_lights(text);
     // Default light intensity 1/sqrt(n): libm, so the same bits everywhere.
@@ -961,6 +964,14 @@ mod tests {
         // A very long word is quoted shortened.
         let e = fails("abcdefghijklmnopqrstuvwxyz0123456789\n", 1, "`abcdefghijklmnopqrstuvwx…`");
         assert_eq!(e.column, 1);
+    }
+
+    #[test]
+    fn byte_order_mark_is_skipped() {
+        let (scene, info) = parse_str(&format!("\u{feff}{F}s 0 0 0 1\n")).unwrap();
+        assert_eq!((scene.len(), info.counts.spheres), (1, 1));
+        // Only at the start: elsewhere it is an unknown entity on its line.
+        fails(&format!("{F}\u{feff}s 0 0 0 1\n"), 2, "unknown entity");
     }
 
     #[test]

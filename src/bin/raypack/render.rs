@@ -71,7 +71,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
                 n = options.sampling.grid()
             ),
             Sampling::Adaptive { threshold, .. } => eprintln!(
-                "raypack: anti-aliasing: adaptive {n}x{n}, threshold {:.3} ({threshold}/765 of 8-bit channel sums): {:.2} primary rays per pixel (1 without), {:.2} rays per pixel in all",
+                "raypack: anti-aliasing: adaptive {n}x{n}, threshold {:.3} (a difference of {threshold} in the sum of the three 8-bit channels): {:.2} primary rays per pixel (1 without), {:.2} rays per pixel in all",
                 threshold as f64 / 255.0,
                 s.primary as f64 / pixels,
                 s.total() as f64 / pixels,
