@@ -16,7 +16,8 @@
 //! let scene = std::fs::read_to_string("tests/scenes/balls-1.nff")?;
 //! let options = raypack::Options { width: Some(64), height: Some(64), ..Default::default() };
 //! let image = raypack::Image::render(&scene, &options)?;
-//! assert_eq!(image.pixels.len(), 64 * 64);
+//! assert_eq!(image.pixels.len(), 64 * 64);           // row-major RGB8
+//! println!("{} rays, instruction set {}", image.stats.total(), image.isa.name());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
