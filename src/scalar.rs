@@ -243,12 +243,21 @@ impl Scalar for f32 {
         libm::floorf(self) as i32
     }
     /// [`Scalar::to_unorm8`] without a call to `floorf`: after the clamp the
-    /// value `v·255 + ½` lies in `[½, 255½]`, where truncation (`as`, one
-    /// packed conversion) equals the floor. Same result, every input.
+    /// value `v·255 + ½` lies in `[½, 255½]`, where truncation equals the
+    /// floor. Same result, every input.
     #[inline(always)]
     fn to_unorm8(self) -> u8 {
         let v = self.clamp01() * 255.0 + 0.5;
-        (v as i32).clamp(0, 255) as u8
+        // Truncation in integer operations, which vectorise across a
+        // packet where a saturating float-to-int conversion (`as`) left a
+        // per-lane fix-up: v = 1.f·2^(E−127) with the biased exponent E in
+        // [126, 134], so its integer part is the 24-bit significand shifted
+        // right by 150 − E (16 to 24 places; `& 31` only keeps the shift in
+        // range for the compiler, it never changes it).
+        let bits = v.to_bits();
+        let significand = (bits & 0x007f_ffff) | 0x0080_0000;
+        let shift = 150u32.wrapping_sub(bits >> 23) & 31;
+        (significand >> shift).min(255) as u8
     }
     #[inline(always)]
     fn is_finite(self) -> bool {
@@ -271,6 +280,38 @@ mod tests {
         while x < 1.0e30 {
             assert_eq!(Scalar::sqrt(x).to_bits(), libm::sqrtf(x).to_bits(), "{x}");
             x *= 1.37;
+        }
+    }
+
+    /// The integer truncation equals `floor(clamp(v)·255 + ½)` computed
+    /// with a float-to-int conversion: on every float of `[0, 1]` near the
+    /// 8-bit steps and their midpoints, and on seeded random bit patterns
+    /// (NaN, infinities, negatives, huge values included).
+    #[test]
+    fn unorm8_equals_the_float_conversion() {
+        fn reference(x: f32) -> u8 {
+            ((x.clamp01() * 255.0 + 0.5) as i32).clamp(0, 255) as u8
+        }
+        for k in 0..=510u32 {
+            let centre = k as f32 / 510.0;
+            let bits = centre.to_bits();
+            for d in 0..64u32 {
+                for b in [bits.wrapping_add(d), bits.wrapping_sub(d)] {
+                    let x = f32::from_bits(b);
+                    assert_eq!(x.to_unorm8(), reference(x), "{x:e}");
+                }
+            }
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..1_000_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let x = f32::from_bits((state >> 32) as u32);
+            assert_eq!(x.to_unorm8(), reference(x), "{x:e}");
+        }
+        for x in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0, f32::MIN_POSITIVE, 0.5 / 255.0, 1.5 / 255.0] {
+            assert_eq!(x.to_unorm8(), reference(x), "{x:e}");
         }
     }
 
