@@ -26,6 +26,9 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --all-features -q
 say "dispatched machine code: packed, no FMA (x86-64)"
 ./scripts/check-asm.sh
 
+say "crate: MSRV builds, package builds, publish dry run (scripts/check-package.sh)"
+./scripts/check-package.sh
+
 say "firmware: build, prove panic-free, run under QEMU, compare with the host"
 ./scripts/firmware.sh
 
