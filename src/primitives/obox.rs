@@ -34,9 +34,13 @@ impl<S: Scalar> OrientedBox<S> {
         if u == Vec3::ZERO {
             return Err(GeometryError::ZeroLengthAxis);
         }
-        // Gram-Schmidt: remove v's component along u.
+        // Gram-Schmidt: remove v's component along u. For a `v` parallel to
+        // `u` what is left is rounding noise, which normalizes to no direction
+        // orthogonal to `u` (for u = v = (1, 1, 0), to `u` itself): parallel
+        // too, or the frame (so `bounds`) would not be the box the kernel
+        // intersects. A true residual leaves `u·v` at rounding level.
         let v = (v - u.scale(u.dot(v))).normalize_or_zero();
-        if v == Vec3::ZERO {
+        if v == Vec3::ZERO || u.dot(v).abs() > S::from_f32(1e-5) {
             return Err(GeometryError::ZeroLengthAxis);
         }
         let w = u.cross(v);
@@ -169,6 +173,10 @@ mod tests {
         let x = Vec3::new(1.0f32, 0.0, 0.0);
         assert_eq!(OrientedBox::new(c, h, Vec3::ZERO, x), Err(GeometryError::ZeroLengthAxis));
         assert_eq!(OrientedBox::new(c, h, x, x.scale(2.0)), Err(GeometryError::ZeroLengthAxis));
+        // Parallel, with a rounding residual (fuzzing found this one).
+        let d = Vec3::new(1.0f32, 1.0, 0.0);
+        assert_eq!(OrientedBox::new(c, h, d, d), Err(GeometryError::ZeroLengthAxis));
+        assert_eq!(OrientedBox::new(c, h, d, d.scale(-3.0)), Err(GeometryError::ZeroLengthAxis));
         assert_eq!(OrientedBox::new(c, -h, x, Vec3::new(0.0, 1.0, 0.0)), Err(GeometryError::NonPositiveRadius));
         assert_eq!(OrientedBox::new(c, h, Vec3::new(f32::NAN, 0.0, 0.0), x), Err(GeometryError::NonFinite));
     }
