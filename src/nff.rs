@@ -640,9 +640,13 @@ fn geometry<T>(line: &Line, what: &'static str, r: Result<T, GeometryError>) -> 
 /// The `v` block's keywords, in order.
 const VIEW_KEYS: [&str; 6] = ["from", "at", "up", "angle", "hither", "resolution"];
 
-fn read_view(lines: &mut Lines, v_line: u32) -> Result<NffCamera, NffError> {
+/// Reads the six lines of a `v` block; returns the camera and the line and
+/// column of each line's keyword (in [`VIEW_KEYS`] order), so that a camera
+/// the numbers cannot make is reported where the offending numbers are.
+fn read_view(lines: &mut Lines, v_line: u32) -> Result<(NffCamera, [(u32, u32); 6]), NffError> {
     let mut cam = NffCamera { from: [0.0; 3], at: [0.0; 3], up: [0.0; 3], angle: 0.0, hither: 0.0, width: 0, height: 0 };
-    for key in VIEW_KEYS {
+    let mut at_lines = [(v_line, 1u32); 6];
+    for (slot, key) in at_lines.iter_mut().zip(VIEW_KEYS) {
         let line = lines.next_content().ok_or(NffError {
             line: lines.line_no() + 1,
             column: 1,
@@ -652,6 +656,8 @@ fn read_view(lines: &mut Lines, v_line: u32) -> Result<NffCamera, NffError> {
         if fields.f[0].text != key {
             return Err(line.error_at(fields.f[0].at, NffErrorKind::ViewOrder { expected: key, found: Token::new(fields.f[0].text) }));
         }
+        let here = line.error_at(fields.f[0].at, NffErrorKind::Camera(CameraError::NonFinite));
+        *slot = (here.line, here.column);
         match key {
             "from" | "at" | "up" => {
                 expect_fields(&line, &fields, &[3], view_what(key), "3 numbers (x y z)")?;
@@ -687,7 +693,7 @@ fn read_view(lines: &mut Lines, v_line: u32) -> Result<NffCamera, NffError> {
             }
         }
     }
-    Ok(cam)
+    Ok((cam, at_lines))
 }
 
 fn view_what(key: &str) -> &'static str {
@@ -794,9 +800,22 @@ fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffE
                 }
                 expect_fields(&line, &fields, &[0], "`v`", "no numbers (the camera follows on 6 lines)")?;
                 view_line = Some(line.no);
-                let cam = read_view(&mut lines, line.no)?;
-                cam.camera::<f32>(cam.width, cam.height)
-                    .map_err(|e| line.error_at(key.at, NffErrorKind::Camera(e)))?;
+                let (cam, at_lines) = read_view(&mut lines, line.no)?;
+                cam.camera::<f32>(cam.width, cam.height).map_err(|e| {
+                    // The line whose numbers make the camera impossible
+                    // (VIEW_KEYS order); the `v` line for the rest.
+                    let which = match e {
+                        CameraError::EyeAtTarget => Some(1),
+                        CameraError::UpParallel => Some(2),
+                        CameraError::FieldOfView => Some(3),
+                        CameraError::ImageSize => Some(5),
+                        CameraError::NonFinite | CameraError::OutOfRange(_) => None,
+                    };
+                    match which.and_then(|i| at_lines.get(i)) {
+                        Some(&(line, column)) => NffError { line, column, kind: NffErrorKind::Camera(e) },
+                        None => line.error_at(key.at, NffErrorKind::Camera(e)),
+                    }
+                })?;
                 info.camera = Some(cam);
             }
             "from" | "at" | "up" | "angle" | "hither" | "resolution" => {
@@ -1086,7 +1105,12 @@ mod tests {
         fails(&format!("{F}s 0 0 0 1\nup 0 0 1\n"), 3, "`up` outside a `v` block");
         fails("v\nfrom 0 0 1\nat 0 0 0\n", 4, "file ends early: expected up for the entity on line 1");
         fails(&format!("{CAMERA}{CAMERA}"), 8, "second `v` block (the first is on line 1)");
-        fails(&CAMERA.replace("at 0 0 0.8", "at 0 -8 3"), 1, "bad camera: the camera's eye and look-at point coincide");
+        // An impossible camera is reported on the line that makes it so.
+        fails(&CAMERA.replace("at 0 0 0.8", "at 0 -8 3"), 3, "bad camera: the camera's eye and look-at point coincide");
+        fails(&CAMERA.replace("up 0 0 1", "up 0 8 -2.2"), 4, "bad camera: the up vector is zero or parallel");
+        fails(&CAMERA.replace("up 0 0 1", "up 0 0 0"), 4, "bad camera: the up vector");
+        fails(&CAMERA.replace("angle 40", "angle 180"), 5, "bad camera: the field of view");
+        assert_eq!(fails(&CAMERA.replace("angle 40", "  angle 0"), 5, "bad camera: the field of view").column, 3);
     }
 
     #[test]

@@ -175,10 +175,11 @@ fn minimized_corpus_entries_reach_the_readers_errors() {
         assert_eq!(nff::parse(text, &mut s), Err(e), "{text:?}");
     }
     // An eye at the largest f32 (the fuzzer's `03.4028235e38`): the reader
-    // checks the camera and refuses it on the `v` line, as a value.
+    // checks the camera and refuses it as a value, on the `at` line (where
+    // an eye-at-target camera is reported).
     let text = "                      v\nfrom 03.4028235e38 0 -8\nat 0 0 0\nup 0 1 0\nangle 25\nhither 0.001\nresolution 256 256\n";
     let e = nff::scan(text).unwrap_err();
-    assert_eq!((e.line, e.column), (1, 23));
+    assert_eq!((e.line, e.column), (3, 1));
     assert!(matches!(e.kind, NffErrorKind::Camera(_)), "{e}");
 }
 
