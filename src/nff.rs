@@ -656,8 +656,7 @@ fn read_view(lines: &mut Lines, v_line: u32) -> Result<(NffCamera, [(u32, u32); 
         if fields.f[0].text != key {
             return Err(line.error_at(fields.f[0].at, NffErrorKind::ViewOrder { expected: key, found: Token::new(fields.f[0].text) }));
         }
-        let here = line.error_at(fields.f[0].at, NffErrorKind::Camera(CameraError::NonFinite));
-        *slot = (here.line, here.column);
+        *slot = (line.no, line.column(fields.f[0].at));
         match key {
             "from" | "at" | "up" => {
                 expect_fields(&line, &fields, &[3], view_what(key), "3 numbers (x y z)")?;
