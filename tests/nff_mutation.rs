@@ -3,7 +3,7 @@
 //! builder of the command line (`raypack::image::with_scene`: size tier,
 //! fixed-point conversion, BVH), a few of them rendered as tiny images.
 //!
-//! Deterministic: an xorshift64* generator with a fixed seed makes the same
+//! Deterministic: the suite's SplitMix64 generator (`tests/common`) with a fixed seed makes the same
 //! inputs on every run (see [`MUTANTS`] and [`SEED`]; docs/fuzzing.md).
 //! Each input is one to three of: a line deleted, duplicated or swapped
 //! with another; a number replaced by NaN, an infinity, -0, 1e39, a huge or
@@ -21,7 +21,7 @@
 
 mod common;
 
-use common::SCENES;
+use common::{Rng, SCENES};
 use raypack::dispatch::Isa;
 use raypack::image::{self, AccelKind, Error, Options, ScalarKind};
 use raypack::nff;
@@ -46,25 +46,14 @@ fn mutants_of(text: &str) -> usize {
 /// test, so a change of the mix is deliberate).
 const MUTANTS: usize = 13 * 500 + 3 * 100 + 2 * 15;
 
-/// xorshift64* (Vigna): a tiny, seeded, reproducible generator.
-struct XorShift(u64);
+/// Uniform in `0..n` (`n > 0`) from the suite's seeded generator.
+fn below(rng: &mut Rng, n: usize) -> usize {
+    (rng.next_u64() % n as u64) as usize
+}
 
-impl XorShift {
-    fn next(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    /// Uniform in `0..n` (`n > 0`).
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
-        &items[self.below(items.len())]
-    }
+/// One of `items`, uniformly.
+fn pick<'a, T>(rng: &mut Rng, items: &'a [T]) -> &'a T {
+    &items[below(rng, items.len())]
 }
 
 /// Replacements for a number field.
@@ -82,13 +71,13 @@ const ODD_CHARS: &[char] = &[
 ];
 
 /// A mutation of `text`, described for the failure message.
-fn mutate(rng: &mut XorShift, text: &str) -> (String, Vec<&'static str>) {
+fn mutate(rng: &mut Rng, text: &str) -> (String, Vec<&'static str>) {
     let mut lines: Vec<String> = text.split('\n').map(str::to_owned).collect();
     let mut ops = Vec::new();
-    for _ in 0..1 + rng.below(3) {
+    for _ in 0..1 + below(rng, 3) {
         let n = lines.len();
-        let at = rng.below(n);
-        match rng.below(9) {
+        let at = below(rng, n);
+        match below(rng, 9) {
             0 => {
                 ops.push("delete a line");
                 if n > 1 {
@@ -102,7 +91,7 @@ fn mutate(rng: &mut XorShift, text: &str) -> (String, Vec<&'static str>) {
             }
             2 => {
                 ops.push("swap two lines");
-                let other = rng.below(n);
+                let other = below(rng, n);
                 lines.swap(at, other);
             }
             3 | 4 => {
@@ -111,8 +100,8 @@ fn mutate(rng: &mut XorShift, text: &str) -> (String, Vec<&'static str>) {
                 // Numbers are the fields after the keyword (or all fields of
                 // a continuation line); any field will do.
                 if !fields.is_empty() {
-                    let (s, e) = *rng.pick(&fields);
-                    let odd = *rng.pick(ODD_NUMBERS);
+                    let (s, e) = *pick(rng, &fields);
+                    let odd = *pick(rng, ODD_NUMBERS);
                     lines[at].replace_range(s..e, odd);
                 }
             }
@@ -120,7 +109,7 @@ fn mutate(rng: &mut XorShift, text: &str) -> (String, Vec<&'static str>) {
                 ops.push("truncate mid-line");
                 lines.truncate(at + 1);
                 let l = &mut lines[at];
-                let mut cut = rng.below(l.len() + 1);
+                let mut cut = below(rng, l.len() + 1);
                 while !l.is_char_boundary(cut) {
                     cut -= 1;
                 }
@@ -130,31 +119,31 @@ fn mutate(rng: &mut XorShift, text: &str) -> (String, Vec<&'static str>) {
                 ops.push("drop a field");
                 let fields = field_spans(&lines[at]);
                 if !fields.is_empty() {
-                    let (s, e) = *rng.pick(&fields);
+                    let (s, e) = *pick(rng, &fields);
                     lines[at].replace_range(s..e, "");
                 }
             }
             7 => {
                 ops.push("insert characters");
                 let l = &mut lines[at];
-                for _ in 0..1 + rng.below(3) {
-                    let mut pos = rng.below(l.len() + 1);
+                for _ in 0..1 + below(rng, 3) {
+                    let mut pos = below(rng, l.len() + 1);
                     while !l.is_char_boundary(pos) {
                         pos -= 1;
                     }
-                    l.insert(pos, *rng.pick(ODD_CHARS));
+                    l.insert(pos, *pick(rng, ODD_CHARS));
                 }
             }
             _ => {
                 ops.push("change a keyword letter");
                 if let Some(&(s, e)) = field_spans(&lines[at]).first() {
                     let word: Vec<char> = lines[at][s..e].chars().collect();
-                    let k = rng.below(word.len());
+                    let k = below(rng, word.len());
                     let mut word = word;
-                    word[k] = match rng.below(3) {
+                    word[k] = match below(rng, 3) {
                         0 => word[k].to_ascii_uppercase(),
-                        1 => (b'a' + rng.below(26) as u8) as char,
-                        _ => *rng.pick(&['x', 'q', 'f', 'p', 's', 'l']),
+                        1 => (b'a' + below(rng, 26) as u8) as char,
+                        _ => *pick(rng, &['x', 'q', 'f', 'p', 's', 'l']),
                     };
                     let word: String = word.into_iter().collect();
                     lines[at].replace_range(s..e, &word);
@@ -280,7 +269,7 @@ fn check(text: &str, scalar: ScalarKind, accel: AccelKind, render: bool) -> Opti
 
 #[test]
 fn mutated_scenes_load_or_fail_with_a_line_number() {
-    let mut rng = XorShift(SEED);
+    let mut rng = Rng(SEED);
     let (mut count, mut rejected, mut rendered) = (0usize, 0usize, 0usize);
     let mut tally = std::collections::BTreeMap::<String, usize>::new();
     for (name, source) in SCENES {
