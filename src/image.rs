@@ -53,7 +53,8 @@ pub const TILE: u32 = 32;
 /// How [`render_tiles`] cuts and runs a render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Tiling {
-    /// Rays per packet: 1, 4, 8 or 16.
+    /// Rays per packet: 1, 4, 8 or 16 (used where it applies:
+    /// [`packet_used`]).
     pub packet: usize,
     /// Instruction set (used where it applies: [`Isa::used_for`]).
     pub isa: Isa,
@@ -250,6 +251,8 @@ pub struct Image {
     pub stats: RayStats,
     /// The instruction set the render path ran with.
     pub isa: Isa,
+    /// Rays per packet the render path ran with ([`packet_used`]).
+    pub packet: usize,
     /// Worker threads used.
     pub threads: usize,
     /// The accelerator the render ran through.
@@ -344,8 +347,9 @@ impl<S: Scalar> LoadedScene for Loaded<'_, S> {
         let tiling = Tiling { packet: options.packet, isa: options.isa, threads, tile: TILE };
         let (pixels, stats) = render_tiles(&renderer, region, &tiling, progress)?;
         let time = start.elapsed();
-        let isa = options.isa.used_for::<S>(options.packet);
-        Ok(Image { width: region.w, height: region.h, region, full_size: (width, height), pixels, stats, isa, threads, accel: kind, time })
+        let packet = packet_used::<S>(options.packet);
+        let isa = options.isa.used_for::<S>(packet);
+        Ok(Image { width: region.w, height: region.h, region, full_size: (width, height), pixels, stats, isa, packet, threads, accel: kind, time })
     }
 }
 
@@ -463,8 +467,8 @@ fn load_in<S: Scalar, const P: usize, const V: usize, const M: usize, const L: u
 
 /// Renders `rect` of `renderer`'s image (clipped to the image) in square
 /// tiles on the image's grid of pitch `tiling.tile`, on `tiling.threads`
-/// worker threads, with packets of `tiling.packet` rays compiled for
-/// `tiling.isa` where that applies ([`Isa::used_for`]), and returns the
+/// worker threads, with packets of `tiling.packet` rays ([`packet_used`])
+/// compiled for `tiling.isa` where that applies ([`Isa::used_for`]), and returns the
 /// pixels of the clipped `rect` (row-major) and the rays traced;
 /// `progress` is called after each tile. The one tile loop of raypack:
 /// [`Image::render`] and the command line use it.
@@ -499,11 +503,17 @@ pub fn render_tiles<S: Scalar, A: Accelerator<S> + Sync, const D: usize>(
         let Some(&tile) = tiles.get(i) else { return };
         let mut px = vec![[0u8; 3]; tile.w as usize * tile.h as usize];
         let mut stats = RayStats::default();
-        let done = match packet {
-            1 => dispatch::render_rect::<S, A, D, 1>(isa, renderer, tile, &mut px, &mut stats),
-            4 => dispatch::render_rect::<S, A, D, 4>(isa, renderer, tile, &mut px, &mut stats),
-            8 => dispatch::render_rect::<S, A, D, 8>(isa, renderer, tile, &mut px, &mut stats),
-            _ => dispatch::render_rect::<S, A, D, 16>(isa, renderer, tile, &mut px, &mut stats),
+        // (A constant condition per scalar: only `f32` compiles the wider
+        // copies.)
+        let done = if const { !S::PACKED } {
+            dispatch::render_rect::<S, A, D, 1>(isa, renderer, tile, &mut px, &mut stats)
+        } else {
+            match packet {
+                1 => dispatch::render_rect::<S, A, D, 1>(isa, renderer, tile, &mut px, &mut stats),
+                4 => dispatch::render_rect::<S, A, D, 4>(isa, renderer, tile, &mut px, &mut stats),
+                8 => dispatch::render_rect::<S, A, D, 8>(isa, renderer, tile, &mut px, &mut stats),
+                _ => dispatch::render_rect::<S, A, D, 16>(isa, renderer, tile, &mut px, &mut stats),
+            }
         };
         match done {
             Ok(()) => {
@@ -554,6 +564,24 @@ pub fn render_tiles<S: Scalar, A: Accelerator<S> + Sync, const D: usize>(
         }
     }
     Ok((pixels, stats))
+}
+
+/// The packet width [`render_tiles`] really traces `S` with when asked for
+/// `packet` rays: `packet` for a [`Scalar::PACKED`] type (`f32`), 1 for
+/// the integer fixed-point scalars. Their lanes do not map onto SIMD
+/// instructions (each multiply is a 64-bit product), so wider packets only
+/// add work: on balls-2 a `Fixed32` Whitted render is 1.8× slower at 8
+/// lanes and 2.9× slower at 16 than at 1 (docs/performance.md), and their
+/// copies of the render path were three quarters of the machine code that
+/// a release build compiles. The bytes are the same at every width, so
+/// this changes speed only; the core still traces fixed point at any width
+/// for callers of [`Renderer::render_rect`](crate::render::Renderer::render_rect).
+pub fn packet_used<S: Scalar>(packet: usize) -> usize {
+    if S::PACKED {
+        packet
+    } else {
+        1
+    }
 }
 
 /// The number of tiles [`render_tiles`] cuts `rect` into with tiles of

@@ -168,9 +168,10 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
     let primary = Options { mode: Mode::Cast, aov: Aov::Id, ..base };
     let whitted = Options { mode: Mode::Whitted, depth: args.depth, aov: Aov::Color, ..base };
 
-    // Configurations by the instruction set they really run with (packets
-    // narrower than 8 and fixed point run the baseline whatever is asked):
-    // each is measured once.
+    // Configurations by the instruction set and packet width they really
+    // run with (packets narrower than 8 and fixed point run the baseline
+    // whatever is asked, fixed point one ray per packet): each is measured
+    // once.
     let mut accels: Vec<AccelKind> = Vec::new();
     for a in &args.accel {
         if !accels.contains(&a.kind()) {
@@ -181,8 +182,8 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
     for measure in ["primary", "whitted"] {
         for &accel in &accels {
             for &asked in &isas {
-                for &packet in &packets {
-                    let isa = used_for(info.scalar, asked, packet);
+                for &asked_packet in &packets {
+                    let (isa, packet) = used_for(info.scalar, asked, asked_packet);
                     for &t in &threads {
                         if !configs.iter().any(|c| c.measure == measure && c.accel == accel && c.isa == isa && c.packet == packet && c.threads == t) {
                             configs.push(Config { measure, accel, isa, packet, threads: t, times: Vec::new(), stats: RayStats::default() });
@@ -235,7 +236,7 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
             line += &format!(" lanes_{kind}={lanes:.2}");
         }
         let find = |packet: usize, threads: u32| {
-            let isa = used_for(info.scalar, c.isa, packet);
+            let (isa, packet) = used_for(info.scalar, c.isa, packet);
             configs.iter().find(|o| o.measure == c.measure && o.accel == c.accel && o.isa == isa && o.packet == packet && o.threads == threads)
         };
         if let Some(o) = find(1, c.threads) {
@@ -257,11 +258,15 @@ fn accel_name(a: AccelKind) -> &'static str {
     }
 }
 
-/// The instruction set a configuration really runs with (see
-/// [`Isa::used_for`]).
-fn used_for(scalar: image::ScalarKind, isa: Isa, packet: usize) -> Isa {
+/// The instruction set and packet width a configuration really runs with
+/// (see [`Isa::used_for`] and [`image::packet_used`]).
+fn used_for(scalar: image::ScalarKind, isa: Isa, packet: usize) -> (Isa, usize) {
+    fn of<S: raypack::Scalar>(isa: Isa, packet: usize) -> (Isa, usize) {
+        let packet = image::packet_used::<S>(packet);
+        (isa.used_for::<S>(packet), packet)
+    }
     match scalar {
-        image::ScalarKind::F32 => isa.used_for::<f32>(packet),
-        image::ScalarKind::Fixed32 => isa.used_for::<raypack::Fixed32>(packet),
+        image::ScalarKind::F32 => of::<f32>(isa, packet),
+        image::ScalarKind::Fixed32 => of::<raypack::Fixed32>(isa, packet),
     }
 }

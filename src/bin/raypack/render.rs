@@ -53,7 +53,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             secs,
             img.threads,
             if img.threads == 1 { "" } else { "s" },
-            options.packet,
+            img.packet,
             img.isa,
             s.primary,
             s.shadow,
@@ -81,7 +81,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         let l = s.lanes_per_packet();
         eprintln!(
             "raypack: active lanes per packet of {}: {:.2} primary, {:.2} shadow, {:.2} reflected, {:.2} refracted",
-            options.packet, l[0], l[1], l[2], l[3]
+            img.packet, l[0], l[1], l[2], l[3]
         );
         match info.bvh {
             Some((b, built)) => eprintln!(
