@@ -200,8 +200,8 @@ impl<S: Scalar> Camera<S> {
         // `W` is `u = ((2i + 1)·n + 2a + 1 − n) / (n·W)` per lane, one
         // rounded quotient of two integers (for `n = 1`: `(2i + 1)/W`);
         // the same for `v`. Then lane arithmetic.
-        let mut u = Lanes::<S, W>::zero();
-        let mut v = Lanes::<S, W>::zero();
+        let mut un = [0u32; W];
+        let mut vn = [0u32; W];
         let mut inside = Mask::<W>::splat(false);
         for l in 0..W {
             // Saturating: a pixel past u32::MAX is outside any image anyway.
@@ -217,8 +217,17 @@ impl<S: Scalar> Camera<S> {
             let i = if inside_l { i } else { 0 };
             let j = if inside_l { j } else { 0 };
             // At most (2·65535 + 1)·256 < 2³²: no overflow.
-            u.0[l] = S::ratio((2 * i + 1) * n + 2 * a + 1 - n, n * self.width);
-            v.0[l] = S::ratio((2 * j + 1) * n + 2 * b + 1 - n, n * self.height);
+            un[l] = (2 * i + 1) * n + 2 * a + 1 - n;
+            vn[l] = (2 * j + 1) * n + 2 * b + 1 - n;
+        }
+        // The quotients in a loop of their own, one per lane with one
+        // divisor: for `f32` a packed conversion and a packed division.
+        let (ud, vd) = (n * self.width, n * self.height);
+        let mut u = Lanes::<S, W>::zero();
+        let mut v = Lanes::<S, W>::zero();
+        for l in 0..W {
+            u.0[l] = S::ratio(un[l], ud);
+            v.0[l] = S::ratio(vn[l], vd);
         }
         let one = Lanes::splat(S::ONE);
         let sx = (u - one) * self.sx_scale;

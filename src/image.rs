@@ -38,7 +38,6 @@ use crate::scalar::Scalar;
 use crate::scene::{Scene, SceneError, SceneView};
 use crate::similarity::Similarity;
 use crate::trace::{Mode, RayStats, TraceError, TraceSettings, Tracer};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -46,9 +45,9 @@ use std::time::{Duration, Instant};
 pub const MAX_DEPTH: u32 = 16;
 const DEPTH: usize = MAX_DEPTH as usize;
 
-/// Tile side in pixels of [`Image::render`]: a multiple of every packet
-/// shape.
-pub const TILE: u32 = 32;
+/// Tile height in rows of [`Image::render`] (its tiles are bands as wide
+/// as the image): a multiple of every packet shape's height.
+pub const TILE: u32 = 8;
 
 /// How [`render_tiles`] cuts and runs a render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,8 +59,10 @@ pub struct Tiling {
     pub isa: Isa,
     /// Worker threads, at least 1.
     pub threads: usize,
-    /// Tile side in pixels, at least 1 (tiles sit on a grid of this
-    /// pitch from the image's top-left corner).
+    /// Tile height in rows, at least 1. A tile is a band of that many
+    /// rows across the whole rectangle, on a grid of this pitch from the
+    /// image's top row; bands are rows of the result, so each is rendered
+    /// straight into it.
     pub tile: u32,
 }
 
@@ -465,18 +466,21 @@ fn load_in<S: Scalar, const P: usize, const V: usize, const M: usize, const L: u
     })
 }
 
-/// Renders `rect` of `renderer`'s image (clipped to the image) in square
-/// tiles on the image's grid of pitch `tiling.tile`, on `tiling.threads`
-/// worker threads, with packets of `tiling.packet` rays ([`packet_used`])
-/// compiled for `tiling.isa` where that applies ([`Isa::used_for`]), and returns the
-/// pixels of the clipped `rect` (row-major) and the rays traced;
-/// `progress` is called after each tile. The one tile loop of raypack:
-/// [`Image::render`] and the command line use it.
+/// Renders `rect` of `renderer`'s image (clipped to the image) in tiles,
+/// bands of `tiling.tile` rows across `rect` on the image's grid of that
+/// pitch, on `tiling.threads` worker threads, with packets of
+/// `tiling.packet` rays ([`packet_used`]) compiled for `tiling.isa` where
+/// that applies ([`Isa::used_for`]), and returns the pixels of the clipped
+/// `rect` (row-major) and the rays traced; `progress` is called after each
+/// tile. The one tile loop of raypack: [`Image::render`] and the command
+/// line use it.
 ///
-/// Each tile is rendered independently into its own buffer, so the bytes
-/// depend neither on the number of threads nor on which thread renders
-/// which tile; the core guarantees that they do not depend on the packet
-/// width or the instruction set either.
+/// A band's pixels are consecutive rows of the result, so each tile is
+/// rendered straight into its own part of the one buffer (nothing is
+/// allocated per tile or copied afterwards), and the bytes depend neither
+/// on the number of threads nor on which thread renders which tile; the
+/// core guarantees that they do not depend on the packet width or the
+/// instruction set either.
 pub fn render_tiles<S: Scalar, A: Accelerator<S> + Sync, const D: usize>(
     renderer: &Renderer<'_, S, A, D>,
     rect: Rect,
@@ -494,74 +498,64 @@ pub fn render_tiles<S: Scalar, A: Accelerator<S> + Sync, const D: usize>(
         return Err(Error::Isa(isa));
     }
     let rect = clip(rect, renderer.camera.full_rect());
-    let tiles = tiles(rect, tile.max(1));
-    let results: Mutex<Vec<Option<(Vec<Rgb8>, RayStats)>>> = Mutex::new(vec![None; tiles.len()]);
-    let next = AtomicUsize::new(0);
+    let mut pixels = vec![[0u8; 3]; rect.w as usize * rect.h as usize];
+    // Each band with its rows of the result, in order.
+    let mut parts: Vec<(Rect, &mut [Rgb8])> = Vec::new();
+    let mut rest = pixels.as_mut_slice();
+    for band in tiles(rect, tile.max(1)) {
+        let Some((this, tail)) = rest.split_at_mut_checked(band.w as usize * band.h as usize) else { break };
+        parts.push((band, this));
+        rest = tail;
+    }
+    let count = parts.len();
+    let queue = Mutex::new(parts.into_iter());
     let failure: Mutex<Option<Error>> = Mutex::new(None);
-    let work = || loop {
-        let i = next.fetch_add(1, Ordering::Relaxed);
-        let Some(&tile) = tiles.get(i) else { return };
-        let mut px = vec![[0u8; 3]; tile.w as usize * tile.h as usize];
+    // A worker takes the next band until none is left, and returns the
+    // rays it traced (sums: the same in any order).
+    let work = || {
         let mut stats = RayStats::default();
-        // (A constant condition per scalar: only `f32` compiles the wider
-        // copies.)
-        let done = if const { !S::PACKED } {
-            dispatch::render_rect::<S, A, D, 1>(isa, renderer, tile, &mut px, &mut stats)
-        } else {
-            match packet {
-                1 => dispatch::render_rect::<S, A, D, 1>(isa, renderer, tile, &mut px, &mut stats),
-                4 => dispatch::render_rect::<S, A, D, 4>(isa, renderer, tile, &mut px, &mut stats),
-                8 => dispatch::render_rect::<S, A, D, 8>(isa, renderer, tile, &mut px, &mut stats),
-                _ => dispatch::render_rect::<S, A, D, 16>(isa, renderer, tile, &mut px, &mut stats),
-            }
-        };
-        match done {
-            Ok(()) => {
-                if let Ok(mut r) = results.lock() {
-                    if let Some(slot) = r.get_mut(i) {
-                        *slot = Some((px, stats));
+        loop {
+            let next = queue.lock().ok().and_then(|mut q| q.next());
+            let Some((band, out)) = next else { return stats };
+            // (A constant condition per scalar: only `f32` compiles the
+            // wider copies.)
+            let done = if const { !S::PACKED } {
+                dispatch::render_rect::<S, A, D, 1>(isa, renderer, band, out, &mut stats)
+            } else {
+                match packet {
+                    1 => dispatch::render_rect::<S, A, D, 1>(isa, renderer, band, out, &mut stats),
+                    4 => dispatch::render_rect::<S, A, D, 4>(isa, renderer, band, out, &mut stats),
+                    8 => dispatch::render_rect::<S, A, D, 8>(isa, renderer, band, out, &mut stats),
+                    _ => dispatch::render_rect::<S, A, D, 16>(isa, renderer, band, out, &mut stats),
+                }
+            };
+            match done {
+                Ok(()) => progress(),
+                Err(e) => {
+                    if let Ok(mut f) = failure.lock() {
+                        *f = Some(e.into());
                     }
+                    return stats;
                 }
-                progress();
-            }
-            Err(e) => {
-                if let Ok(mut f) = failure.lock() {
-                    *f = Some(e.into());
-                }
-                return;
             }
         }
     };
-    let workers = threads.min(tiles.len()).max(1);
-    std::thread::scope(|s| -> Result<(), Error> {
+    let workers = threads.min(count).max(1);
+    let stats = std::thread::scope(|s| -> Result<RayStats, Error> {
         let mut handles = Vec::new();
         for k in 1..workers {
             handles.push(std::thread::Builder::new().name(format!("raypack-tile-{k}")).spawn_scoped(s, work).map_err(Error::Thread)?);
         }
-        work();
+        let mut stats = work();
         for h in handles {
-            h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+            stats.merge(&h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
         }
-        Ok(())
+        Ok(stats)
     })?;
+    // (The queue borrows the pixels; every band has been taken.)
+    drop(queue);
     if let Some(e) = failure.into_inner().ok().flatten() {
         return Err(e);
-    }
-    // Assemble the tiles; ray counts are sums, the same in any order.
-    let results = results.into_inner().unwrap_or_default();
-    let mut pixels = vec![[0u8; 3]; rect.w as usize * rect.h as usize];
-    let mut stats = RayStats::default();
-    for (tile, result) in tiles.iter().zip(results) {
-        let Some((px, s)) = result else { continue };
-        stats.merge(&s);
-        let (w, x0) = (tile.w as usize, (tile.x - rect.x) as usize);
-        for (row, src) in px.chunks_exact(w).enumerate() {
-            let dst = (tile.y - rect.y) as usize + row;
-            let at = dst * rect.w as usize + x0;
-            if let Some(d) = pixels.get_mut(at..at + w) {
-                d.copy_from_slice(src);
-            }
-        }
     }
     Ok((pixels, stats))
 }
@@ -585,11 +579,13 @@ pub fn packet_used<S: Scalar>(packet: usize) -> usize {
 }
 
 /// The number of tiles [`render_tiles`] cuts `rect` into with tiles of
-/// side `pitch` on the image's grid (for progress bars).
+/// `pitch` rows on the image's grid (for progress bars).
 pub fn tile_count(rect: Rect, pitch: u32) -> u64 {
     let p = pitch.max(1) as u64;
-    let span = |a: u32, n: u32| if n == 0 { 0 } else { (a as u64 + n as u64).div_ceil(p) - a as u64 / p };
-    span(rect.x, rect.w) * span(rect.y, rect.h)
+    if rect.w == 0 || rect.h == 0 {
+        return 0;
+    }
+    (rect.y as u64 + rect.h as u64).div_ceil(p) - rect.y as u64 / p
 }
 
 /// `r` clipped to `to`.
@@ -601,23 +597,18 @@ fn clip(r: Rect, to: Rect) -> Rect {
     Rect { x: x0, y: y0, w: x1.saturating_sub(x0), h: y1.saturating_sub(y0) }
 }
 
-/// The tiles covering `rect`, on the image's grid of pitch `pitch`, row by
-/// row.
+/// The tiles covering `rect`, top to bottom: bands as wide as `rect`, cut
+/// at the rows of the image's grid of pitch `pitch`.
 fn tiles(rect: Rect, pitch: u32) -> Vec<Rect> {
     let mut out = Vec::new();
     if rect.w == 0 || rect.h == 0 {
         return out;
     }
-    let (x_end, y_end) = (rect.x + rect.w, rect.y + rect.h);
+    let y_end = rect.y + rect.h;
     let mut y = rect.y;
     while y < y_end {
         let y_next = (y / pitch).saturating_add(1).saturating_mul(pitch).min(y_end);
-        let mut x = rect.x;
-        while x < x_end {
-            let x_next = (x / pitch).saturating_add(1).saturating_mul(pitch).min(x_end);
-            out.push(Rect { x, y, w: x_next - x, h: y_next - y });
-            x = x_next;
-        }
+        out.push(Rect { x: rect.x, y, w: rect.w, h: y_next - y });
         y = y_next;
     }
     out
@@ -628,12 +619,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn tiles_cover_a_rectangle_once_on_the_image_grid() {
+    fn tiles_are_bands_that_cover_a_rectangle_once_on_the_image_grid() {
         for rect in [Rect { x: 0, y: 0, w: 1, h: 1 }, Rect { x: 0, y: 0, w: 31, h: 33 }, Rect { x: 5, y: 30, w: 64, h: 64 }, Rect { x: 31, y: 1, w: 100, h: 7 }] {
             let mut seen = vec![0u8; ((rect.x + rect.w) * (rect.y + rect.h)) as usize];
             let stride = rect.x + rect.w;
             for t in tiles(rect, TILE) {
-                assert!(t.x / TILE == (t.x + t.w - 1) / TILE && t.y / TILE == (t.y + t.h - 1) / TILE, "{t:?} crosses the grid");
+                assert!(t.y / TILE == (t.y + t.h - 1) / TILE, "{t:?} crosses the grid");
+                assert!(t.x == rect.x && t.w == rect.w, "{t:?} is not a band of {rect:?}");
                 for y in t.y..t.y + t.h {
                     for x in t.x..t.x + t.w {
                         seen[(y * stride + x) as usize] += 1;
@@ -651,7 +643,7 @@ mod tests {
         for rect in [Rect { x: 0, y: 0, w: 1, h: 1 }, Rect { x: 31, y: 1, w: 100, h: 7 }, Rect { x: 5, y: 30, w: 64, h: 64 }, Rect { x: 2, y: 2, w: 0, h: 9 }] {
             assert_eq!(tile_count(rect, TILE), tiles(rect, TILE).len() as u64, "{rect:?}");
         }
-        assert_eq!(tiles(Rect { x: 0, y: 0, w: 3, h: 2 }, 1).len(), 6);
+        assert_eq!(tiles(Rect { x: 0, y: 0, w: 3, h: 2 }, 1).len(), 2);
     }
 
     #[test]

@@ -210,6 +210,15 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
     pub fn zero() -> Self {
         Self::splat(S::ZERO)
     }
+    /// Lanes that are finite (neither infinite nor NaN).
+    #[inline(always)]
+    pub fn finite(self) -> Mask<W> {
+        let mut r = [0u32; W];
+        for i in 0..W {
+            r[i] = word(self.0[i].is_finite());
+        }
+        Mask(r)
+    }
     /// Lane `i` from `a` where `m` is set, from `b` elsewhere.
     #[inline(always)]
     pub fn select(m: Mask<W>, a: Self, b: Self) -> Self {
@@ -366,6 +375,13 @@ mod tests {
         assert_eq!(m.count(), 2);
         assert_eq!((!m).to_array(), [true, true, false, false]);
         assert_eq!(m.and_not(Mask::from_array([false, false, true, false])).to_array(), [false, false, false, true]);
+    }
+
+    #[test]
+    fn finite_clears_nan_and_infinities() {
+        let a = Lanes::<f32, 4>([1.0, f32::NAN, f32::INFINITY, -f32::MAX]);
+        assert_eq!(a.finite().to_array(), [true, false, false, true]);
+        assert_eq!(Lanes::<f32, 1>([f32::NEG_INFINITY]).finite().to_array(), [false]);
     }
 
     /// `select` blends bit patterns: NaN payloads, signed zeros and

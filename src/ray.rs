@@ -28,10 +28,8 @@ impl<S: Scalar, const W: usize> RayPacket<S, W> {
     /// is a defined "hits nothing" ray, never a NaN.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn new(origin: Vec3xW<S, W>, dir: Vec3xW<S, W>) -> (Self, Mask<W>) {
-        let (d, mut ok) = dir.normalize();
-        for i in 0..W {
-            ok.set(i, ok.get(i) && origin.lane(i).is_finite());
-        }
+        let (d, ok) = dir.normalize();
+        let ok = ok & origin.x.finite() & origin.y.finite() & origin.z.finite();
         let zero = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
         (
             RayPacket {

@@ -205,6 +205,19 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
             while bx < area.w {
                 let (x0, y0) = (area.x.saturating_add(bx), area.y.saturating_add(by));
                 let (px, active) = shade(x0, y0);
+                if active.all() {
+                    // The whole packet is inside `area`: its rows go out as
+                    // slices (the same bytes as lane by lane below).
+                    let (x, y) = (x0.wrapping_sub(frame.x) as usize, y0.wrapping_sub(frame.y) as usize);
+                    for (r, row) in px.chunks_exact(pw as usize).enumerate() {
+                        let at = (y + r).saturating_mul(frame.w as usize).saturating_add(x);
+                        if let Some(d) = out.get_mut(at..at.saturating_add(row.len())) {
+                            d.copy_from_slice(row);
+                        }
+                    }
+                    bx = bx.saturating_add(pw);
+                    continue;
+                }
                 for (l, p) in px.iter().enumerate() {
                     if !active.get(l) {
                         continue;

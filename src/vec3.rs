@@ -206,10 +206,7 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
             self
         };
         let len = v.length_squared().sqrt();
-        let mut ok = len.gt(Lanes::zero());
-        for i in 0..W {
-            ok.set(i, ok.get(i) && len.0[i].is_finite());
-        }
+        let ok = len.gt(Lanes::zero()) & len.finite();
         let inv = Lanes::splat(S::ONE).div_nonzero(Lanes::select(ok, len, Lanes::splat(S::ZERO)));
         let n = v.scale(inv);
         (Self::select(ok, n, Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero())), ok)

@@ -30,6 +30,7 @@ use crate::ray::RayPacket;
 use crate::scalar::Scalar;
 use crate::scene::SceneView;
 use crate::vec3::Vec3xW;
+use heapless::Vec as HVec;
 
 /// Transmissive crossings a shadow query records before falling back.
 const RECORDS: usize = 32;
@@ -139,8 +140,8 @@ fn walk<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(
 ) {
     // The builder bounds the depth by MAX_DEPTH, and each level leaves at
     // most one sibling on the stack.
-    let mut stack = [0u32; MAX_DEPTH + 1];
-    let mut sp = 0usize;
+    // (A `heapless::Vec`, so that nothing is zeroed per query.)
+    let mut stack: HVec<u32, { MAX_DEPTH + 1 }> = HVec::new();
     // The next node to visit (the root first, if the tree has nodes) and the
     // leaf to test before it (the primitives outside the tree first): one
     // call site for the leaf tests, so they are compiled once.
@@ -162,25 +163,19 @@ fn walk<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(
                 if n.is_leaf() {
                     leaf = bvh.leaf_primitives(n);
                     leaf_mask = m;
-                } else if let Some(slot) = stack.get_mut(sp) {
+                } else {
                     let first = n.link();
                     let (near, far) = if slab.dir_neg.get(n.axis()).copied().unwrap_or(false) { (first + 1, first) } else { (first, first + 1) };
-                    *slot = far;
-                    sp += 1;
-                    next = Some(near);
-                    continue;
+                    if stack.push(far).is_ok() {
+                        next = Some(near);
+                        continue;
+                    }
                 }
             }
         }
-        // Pop the next sibling (`get`, not indexing: the render path has no
-        // panic path); with none left, the last leaf found is still tested.
-        next = match sp.checked_sub(1) {
-            Some(top) => {
-                sp = top;
-                stack.get(top).copied()
-            }
-            None => None,
-        };
+        // Pop the next sibling; with none left, the last leaf found is
+        // still tested.
+        next = stack.pop();
         if next.is_none() && leaf.is_empty() {
             return;
         }
@@ -235,8 +230,9 @@ struct Shadow<'q, 'a, S, const W: usize> {
     t_max: Lanes<S, W>,
     live: Mask<W>,
     /// Transmissive crossings: (primitive, first crossing, second crossing).
-    records: [(u32, Mask<W>, Mask<W>); RECORDS],
-    recorded: usize,
+    /// (A `heapless::Vec`: nothing is written until a crossing is recorded,
+    /// where a zeroed array cost a `memset` per shadow query.)
+    records: HVec<(u32, Mask<W>, Mask<W>), RECORDS>,
     /// More transmissive crossings than `records` holds.
     overflow: bool,
 }
@@ -267,10 +263,7 @@ impl<S: Scalar, const W: usize> LeafVisitor<S, W> for Shadow<'_, '_, S, W> {
             if kt == S::ZERO {
                 // Opaque: exactly 0 whatever else these lanes cross.
                 self.live = self.live.and_not(r.hit0);
-            } else if let Some(slot) = self.records.get_mut(self.recorded) {
-                *slot = (k, r.hit0, r.hit1);
-                self.recorded += 1;
-            } else {
+            } else if self.records.push((k, r.hit0, r.hit1)).is_err() {
                 self.overflow = true;
                 return;
             }
@@ -325,8 +318,7 @@ impl<S: Scalar> Accelerator<S> for BvhView<'_, S> {
             t_min,
             t_max,
             live: active,
-            records: [(0u32, Mask::<W>::splat(false), Mask::<W>::splat(false)); RECORDS],
-            recorded: 0,
+            records: HVec::new(),
             overflow: false,
         };
         // Primitives outside the tree first, then the tree.
@@ -340,8 +332,7 @@ impl<S: Scalar> Accelerator<S> for BvhView<'_, S> {
             return brute::transmittance(scene, ray, t_min, t_max, active);
         }
         // Apply the factors in primitive order, as brute force does.
-        // (Checked slicing and access: the render path has no panic path.)
-        let records = q.records.get_mut(..q.recorded).unwrap_or(&mut []);
+        let records = q.records.as_mut_slice();
         for i in 1..records.len() {
             let mut j = i;
             while j > 0 {
