@@ -146,6 +146,43 @@ fn u24(v: u32) -> Rgb8 {
 
 impl core::error::Error for BufferTooSmall {}
 
+/// Packet columns of [`Renderer`]'s render loop, in pixels: a multiple of
+/// every packet width.
+const BLOCK: u32 = 32;
+
+/// Writes the pixels `px` of the lanes `active` of the packet at `(x0, y0)`
+/// into `out`, row-major with the origin and stride of `frame`.
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+fn put<const W: usize>(x0: u32, y0: u32, frame: Rect, out: &mut [Rgb8], px: &[Rgb8; W], active: Mask<W>) {
+    let (pw, _) = packet_shape(W);
+    if active.all() {
+        // The whole packet is inside the frame: its rows go out as slices
+        // (the same bytes as lane by lane below).
+        let (x, y) = (x0.wrapping_sub(frame.x) as usize, y0.wrapping_sub(frame.y) as usize);
+        for (r, row) in px.chunks_exact(pw as usize).enumerate() {
+            let at = (y + r).saturating_mul(frame.w as usize).saturating_add(x);
+            if let Some(d) = out.get_mut(at..at.saturating_add(row.len())) {
+                d.copy_from_slice(row);
+            }
+        }
+        return;
+    }
+    for (l, p) in px.iter().enumerate() {
+        if !active.get(l) {
+            continue;
+        }
+        // Active lanes lie inside the frame, so the index is below
+        // `frame.w·frame.h <= out.len()`; the checked arithmetic only keeps
+        // panics out of the code.
+        let x = x0.saturating_add(l as u32 % pw).wrapping_sub(frame.x);
+        let y = y0.saturating_add(l as u32 / pw).wrapping_sub(frame.y);
+        let index = (y as usize).checked_mul(frame.w as usize).and_then(|i| i.checked_add(x as usize));
+        if let Some(slot) = index.and_then(|i| out.get_mut(i)) {
+            *slot = *p;
+        }
+    }
+}
+
 impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// A renderer of the colour AOV, one ray per pixel.
     pub fn new(tracer: Tracer<'a, S, A, D>, camera: Camera<S>) -> Self {
@@ -196,45 +233,29 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// [`packet_shape`]`(W)` from its top-left corner) and writes the
     /// returned pixels of the returned lanes into `out`, row-major with
     /// the origin and stride of `frame` (which contains `area`).
+    ///
+    /// Packets are visited in columns of [`BLOCK`] pixels, each column top
+    /// to bottom, so that neighbouring packets follow each other (they
+    /// traverse the same part of the tree) even in a wide band; each
+    /// packet is independent, so the order changes no byte.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn packets<const W: usize>(&self, area: Rect, frame: Rect, out: &mut [Rgb8], mut shade: impl FnMut(u32, u32) -> ([Rgb8; W], Mask<W>)) {
         let (pw, ph) = packet_shape(W);
-        let mut by = 0;
-        while by < area.h {
-            let mut bx = 0;
-            while bx < area.w {
-                let (x0, y0) = (area.x.saturating_add(bx), area.y.saturating_add(by));
-                let (px, active) = shade(x0, y0);
-                if active.all() {
-                    // The whole packet is inside `area`: its rows go out as
-                    // slices (the same bytes as lane by lane below).
-                    let (x, y) = (x0.wrapping_sub(frame.x) as usize, y0.wrapping_sub(frame.y) as usize);
-                    for (r, row) in px.chunks_exact(pw as usize).enumerate() {
-                        let at = (y + r).saturating_mul(frame.w as usize).saturating_add(x);
-                        if let Some(d) = out.get_mut(at..at.saturating_add(row.len())) {
-                            d.copy_from_slice(row);
-                        }
-                    }
+        let mut cx = 0;
+        while cx < area.w {
+            let column_end = cx.saturating_add(BLOCK).min(area.w);
+            let mut by = 0;
+            while by < area.h {
+                let mut bx = cx;
+                while bx < column_end {
+                    let (x0, y0) = (area.x.saturating_add(bx), area.y.saturating_add(by));
+                    let (px, active) = shade(x0, y0);
+                    put(x0, y0, frame, out, &px, active);
                     bx = bx.saturating_add(pw);
-                    continue;
                 }
-                for (l, p) in px.iter().enumerate() {
-                    if !active.get(l) {
-                        continue;
-                    }
-                    // Active lanes lie inside `area`, hence inside `frame`,
-                    // so the index is below `frame.w·frame.h <= out.len()`;
-                    // the checked arithmetic only keeps panics out of the code.
-                    let x = x0.saturating_add(l as u32 % pw).wrapping_sub(frame.x);
-                    let y = y0.saturating_add(l as u32 / pw).wrapping_sub(frame.y);
-                    let index = (y as usize).checked_mul(frame.w as usize).and_then(|i| i.checked_add(x as usize));
-                    if let Some(slot) = index.and_then(|i| out.get_mut(i)) {
-                        *slot = *p;
-                    }
-                }
-                bx = bx.saturating_add(pw);
+                by = by.saturating_add(ph);
             }
-            by = by.saturating_add(ph);
+            cx = column_end;
         }
     }
 
