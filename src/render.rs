@@ -154,15 +154,19 @@ const BLOCK: u32 = 32;
 /// into `out`, row-major with the origin and stride of `frame`.
 #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
 fn put<const W: usize>(x0: u32, y0: u32, frame: Rect, out: &mut [Rgb8], px: &[Rgb8; W], active: Mask<W>) {
-    let (pw, _) = packet_shape(W);
+    let (pw, ph) = const { packet_shape(W) };
     if active.all() {
         // The whole packet is inside the frame: its rows go out as slices
-        // (the same bytes as lane by lane below).
+        // (the same bytes as lane by lane below). Element by element, not
+        // `copy_from_slice`, whose length check is a panic path firmware
+        // must not link.
         let (x, y) = (x0.wrapping_sub(frame.x) as usize, y0.wrapping_sub(frame.y) as usize);
-        for (r, row) in px.chunks_exact(pw as usize).enumerate() {
+        let pw = pw as usize;
+        for r in 0..ph as usize {
             let at = (y + r).saturating_mul(frame.w as usize).saturating_add(x);
-            if let Some(d) = out.get_mut(at..at.saturating_add(row.len())) {
-                d.copy_from_slice(row);
+            let (Some(d), Some(row)) = (out.get_mut(at..at.saturating_add(pw)), px.get(r * pw..(r + 1) * pw)) else { continue };
+            for (d, p) in d.iter_mut().zip(row) {
+                *d = *p;
             }
         }
         return;
