@@ -107,7 +107,8 @@ pub struct Options {
     pub width: Option<u32>,
     /// Image height; `None` as for `width`.
     pub height: Option<u32>,
-    /// Rays per packet: 1, 4, 8 or 16.
+    /// Rays per packet: 1, 4, 8 or 16 (default: [`best_packet`] for
+    /// [`Isa::best`]).
     pub packet: usize,
     /// Worker threads; `None`: one per core.
     pub threads: Option<usize>,
@@ -141,7 +142,7 @@ impl Default for Options {
         Options {
             width: None,
             height: None,
-            packet: 8,
+            packet: best_packet(Isa::best()),
             threads: None,
             mode: Mode::Whitted,
             depth: 5,
@@ -558,6 +559,19 @@ pub fn render_tiles<S: Scalar, A: Accelerator<S> + Sync, const D: usize>(
         return Err(e);
     }
     Ok((pixels, stats))
+}
+
+/// The fastest packet width for `f32` with instruction set `isa` (as
+/// [`Isa::effective`]): 16 with AVX2 or AVX-512, 8 with the baseline
+/// (SSE2), where 16 lanes are four registers per value. Measured on
+/// balls-2, gears-2 and the sphere grids, Whitted and primary rays, in
+/// docs/performance.md. The command line's default; the bytes are the
+/// same at every width.
+pub fn best_packet(isa: Isa) -> usize {
+    match isa.effective() {
+        Isa::Avx2 | Isa::Avx512 => 16,
+        Isa::Baseline => 8,
+    }
 }
 
 /// The packet width [`render_tiles`] really traces `S` with when asked for
