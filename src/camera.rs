@@ -202,18 +202,21 @@ impl<S: Scalar> Camera<S> {
         // the same for `v`. Then lane arithmetic.
         let mut un = [0u32; W];
         let mut vn = [0u32; W];
-        let mut inside = Mask::<W>::splat(false);
+        let mut inside = [false; W];
         for l in 0..W {
             // Saturating: a pixel past u32::MAX is outside any image anyway.
             let i = x.saturating_add(l as u32 % pw);
             let j = y.saturating_add(l as u32 / pw);
-            let inside_l = i >= clip.x
-                && i - clip.x < clip.w
-                && j >= clip.y
-                && j - clip.y < clip.h
-                && i < self.width
-                && j < self.height;
-            inside.set(l, inside_l);
+            // `&`, not `&&`: no branch per lane, so the loop vectorises
+            // (a wrapped difference only matters where `i < clip.x` has
+            // already cleared the lane).
+            let inside_l = (i >= clip.x)
+                & (i.wrapping_sub(clip.x) < clip.w)
+                & (j >= clip.y)
+                & (j.wrapping_sub(clip.y) < clip.h)
+                & (i < self.width)
+                & (j < self.height);
+            inside[l] = inside_l;
             let i = if inside_l { i } else { 0 };
             let j = if inside_l { j } else { 0 };
             // At most (2·65535 + 1)·256 < 2³²: no overflow.
@@ -234,7 +237,7 @@ impl<S: Scalar> Camera<S> {
         let sy = (one - v) * self.sy_scale;
         let dir = self.forward.splat::<W>() + self.right.splat::<W>().scale(sx) + self.up.splat::<W>().scale(sy);
         let (ray, ok) = RayPacket::new(self.eye.splat(), dir);
-        (ray, ok & inside)
+        (ray, ok & Mask::from_array(inside))
     }
 }
 
