@@ -661,6 +661,24 @@ mod tests {
     }
 
     #[test]
+    fn fixed_point_runs_one_ray_per_packet_and_f32_the_width_asked() {
+        assert_eq!(packet_used::<Fixed32>(16), 1);
+        assert_eq!(packet_used::<Fixed32>(1), 1);
+        assert_eq!(packet_used::<f32>(16), 16);
+        assert_eq!(packet_used::<f32>(4), 4);
+        assert_eq!(best_packet(Isa::Baseline), 8);
+        let scene = "v\nfrom 0 -5 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 0.1\nresolution 12 10\nl 3 -4 5\nf 1 0 0 0.5 0.5 10 0 1\ns 0 0 0 1\n";
+        let base = Options { scalar: ScalarKind::Fixed32, threads: Some(1), ..Options::default() };
+        let one = Image::render(scene, &Options { packet: 1, ..base }).unwrap();
+        let wide = Image::render(scene, &Options { packet: 16, ..base }).unwrap();
+        assert_eq!((one.packet, wide.packet), (1, 1));
+        assert_eq!(one.pixels, wide.pixels);
+        assert_eq!(one.stats, wide.stats);
+        let f = Image::render(scene, &Options { packet: 16, ..Options::default() }).unwrap();
+        assert_eq!(f.packet, 16);
+    }
+
+    #[test]
     fn size_overrides_keep_the_aspect_ratio() {
         assert_eq!(image_size(None, None, (512, 256)), (512, 256));
         assert_eq!(image_size(Some(100), None, (512, 256)), (100, 50));

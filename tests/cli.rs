@@ -591,3 +591,30 @@ fn version_and_bench_of_both_accelerators() {
         assert_eq!(rays[0], rays[1], "{out}");
     }
 }
+
+/// The summary reports the packet width that really ran: fixed point one
+/// ray per packet whatever `--packet` asks, `f32` the width asked, and
+/// without `--packet` 16 under AVX2/AVX-512 and 8 on the baseline.
+#[test]
+fn summary_reports_the_packet_width_that_ran() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p.ppm");
+    let out_s = out.to_string_lossy().into_owned();
+    let summary = |extra: &[&str]| {
+        let mut args = vec!["render", "--width", "16", "--height", "16", "-o", &out_s];
+        args.extend_from_slice(extra);
+        let s = scene("balls-1.nff");
+        args.push(&s);
+        let o = raypack(&args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        stderr(&o).lines().next().unwrap_or_default().to_owned()
+    };
+    let fixed = summary(&["--scalar", "fixed32", "--packet", "16"]);
+    assert!(fixed.contains("packet 1, isa baseline"), "{fixed}");
+    let f32_4 = summary(&["--packet", "4"]);
+    assert!(f32_4.contains("packet 4, isa baseline"), "{f32_4}");
+    let baseline = summary(&["--isa", "baseline"]);
+    assert!(baseline.contains("packet 8, isa baseline"), "{baseline}");
+    let auto = summary(&[]);
+    assert!(auto.contains("packet 16, isa avx") || auto.contains("packet 8, isa baseline"), "{auto}");
+}
