@@ -71,6 +71,9 @@ pub mod similarity;
 pub mod trace;
 pub mod vec3;
 
+#[cfg(test)]
+mod test_rng;
+
 // Run-time instruction-set dispatch (std only; the one module allowed `unsafe`).
 #[cfg(feature = "std")]
 pub mod dispatch;
