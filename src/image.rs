@@ -518,8 +518,8 @@ pub fn render_tiles<S: Scalar, A: Accelerator<S> + Sync, const D: usize>(
         loop {
             let next = queue.lock().ok().and_then(|mut q| q.next());
             let Some((band, out)) = next else { return stats };
-            // (A constant condition per scalar: only `f32` compiles the
-            // wider copies.)
+            // The rule of `packet_used`, as a constant condition per scalar,
+            // so that only `f32` compiles the wider copies.
             let done = if const { !S::PACKED } {
                 dispatch::render_rect::<S, A, D, 1>(isa, renderer, band, out, &mut stats)
             } else {
@@ -578,12 +578,10 @@ pub fn best_packet(isa: Isa) -> usize {
 /// `packet` rays: `packet` for a [`Scalar::PACKED`] type (`f32`), 1 for
 /// the integer fixed-point scalars. Their lanes do not map onto SIMD
 /// instructions (each multiply is a 64-bit product), so wider packets only
-/// add work: on balls-2 a `Fixed32` Whitted render is 1.8× slower at 8
-/// lanes and 2.9× slower at 16 than at 1 (docs/performance.md), and their
-/// copies of the render path were three quarters of the machine code that
-/// a release build compiles. The bytes are the same at every width, so
-/// this changes speed only; the core still traces fixed point at any width
-/// for callers of [`Renderer::render_rect`](crate::render::Renderer::render_rect).
+/// add work (docs/performance.md measures it), and compiling them would
+/// more than triple the dispatched machine code a release build compiles.
+/// The bytes are the same at every width, so this changes speed only; the
+/// core still traces fixed point at any width for callers of [`Renderer::render_rect`](crate::render::Renderer::render_rect).
 pub fn packet_used<S: Scalar>(packet: usize) -> usize {
     if S::PACKED {
         packet

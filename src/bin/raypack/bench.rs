@@ -183,7 +183,7 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
         for &accel in &accels {
             for &asked in &isas {
                 for &asked_packet in &packets {
-                    let (isa, packet) = used_for(info.scalar, asked, asked_packet);
+                    let (isa, packet) = runs_with(info.scalar, asked, asked_packet);
                     for &t in &threads {
                         if !configs.iter().any(|c| c.measure == measure && c.accel == accel && c.isa == isa && c.packet == packet && c.threads == t) {
                             configs.push(Config { measure, accel, isa, packet, threads: t, times: Vec::new(), stats: RayStats::default() });
@@ -236,7 +236,7 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
             line += &format!(" lanes_{kind}={lanes:.2}");
         }
         let find = |packet: usize, threads: u32| {
-            let (isa, packet) = used_for(info.scalar, c.isa, packet);
+            let (isa, packet) = runs_with(info.scalar, c.isa, packet);
             configs.iter().find(|o| o.measure == c.measure && o.accel == c.accel && o.isa == isa && o.packet == packet && o.threads == threads)
         };
         if let Some(o) = find(1, c.threads) {
@@ -260,7 +260,7 @@ fn accel_name(a: AccelKind) -> &'static str {
 
 /// The instruction set and packet width a configuration really runs with
 /// (see [`Isa::used_for`] and [`image::packet_used`]).
-fn used_for(scalar: image::ScalarKind, isa: Isa, packet: usize) -> (Isa, usize) {
+fn runs_with(scalar: image::ScalarKind, isa: Isa, packet: usize) -> (Isa, usize) {
     fn of<S: raypack::Scalar>(isa: Isa, packet: usize) -> (Isa, usize) {
         let packet = image::packet_used::<S>(packet);
         (isa.used_for::<S>(packet), packet)

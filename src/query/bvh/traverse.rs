@@ -233,10 +233,10 @@ struct Shadow<'q, 'a, S, const W: usize> {
     t_max: Lanes<S, W>,
     live: Mask<W>,
     /// Transmissive crossings: (primitive, first crossing, second crossing).
-    /// (A `heapless::Vec` of the caller's, so that nothing is written until
-    /// a crossing is recorded. Inside this struct, LLVM merged its length
-    /// and `overflow` into one `memset` over the unwritten records: 2 KB
-    /// zeroed per shadow query.)
+    /// A `heapless::Vec`, so nothing is written until a crossing is
+    /// recorded; the caller's and borrowed, because as a field beside
+    /// `overflow` LLVM merges the vector's length and the flag into one
+    /// `memset` over the whole unwritten buffer (2 KB per shadow query).
     records: &'q mut Records<W>,
     /// More transmissive crossings than `records` holds.
     overflow: bool,
