@@ -46,14 +46,9 @@ fn mutants_of(text: &str) -> usize {
 /// test, so a change of the mix is deliberate).
 const MUTANTS: usize = 13 * 500 + 3 * 100 + 2 * 15;
 
-/// Uniform in `0..n` (`n > 0`) from the suite's seeded generator.
-fn below(rng: &mut Rng, n: usize) -> usize {
-    (rng.next_u64() % n as u64) as usize
-}
-
 /// One of `items`, uniformly.
 fn pick<'a, T>(rng: &mut Rng, items: &'a [T]) -> &'a T {
-    &items[below(rng, items.len())]
+    &items[rng.below(items.len() as u32) as usize]
 }
 
 /// Replacements for a number field.
@@ -74,10 +69,10 @@ const ODD_CHARS: &[char] = &[
 fn mutate(rng: &mut Rng, text: &str) -> (String, Vec<&'static str>) {
     let mut lines: Vec<String> = text.split('\n').map(str::to_owned).collect();
     let mut ops = Vec::new();
-    for _ in 0..1 + below(rng, 3) {
+    for _ in 0..1 + rng.below(3) as usize {
         let n = lines.len();
-        let at = below(rng, n);
-        match below(rng, 9) {
+        let at = rng.below(n as u32) as usize;
+        match rng.below(9) as usize {
             0 => {
                 ops.push("delete a line");
                 if n > 1 {
@@ -91,7 +86,7 @@ fn mutate(rng: &mut Rng, text: &str) -> (String, Vec<&'static str>) {
             }
             2 => {
                 ops.push("swap two lines");
-                let other = below(rng, n);
+                let other = rng.below(n as u32) as usize;
                 lines.swap(at, other);
             }
             3 | 4 => {
@@ -109,7 +104,7 @@ fn mutate(rng: &mut Rng, text: &str) -> (String, Vec<&'static str>) {
                 ops.push("truncate mid-line");
                 lines.truncate(at + 1);
                 let l = &mut lines[at];
-                let mut cut = below(rng, l.len() + 1);
+                let mut cut = rng.below((l.len() + 1) as u32) as usize;
                 while !l.is_char_boundary(cut) {
                     cut -= 1;
                 }
@@ -126,8 +121,8 @@ fn mutate(rng: &mut Rng, text: &str) -> (String, Vec<&'static str>) {
             7 => {
                 ops.push("insert characters");
                 let l = &mut lines[at];
-                for _ in 0..1 + below(rng, 3) {
-                    let mut pos = below(rng, l.len() + 1);
+                for _ in 0..1 + rng.below(3) as usize {
+                    let mut pos = rng.below((l.len() + 1) as u32) as usize;
                     while !l.is_char_boundary(pos) {
                         pos -= 1;
                     }
@@ -138,11 +133,11 @@ fn mutate(rng: &mut Rng, text: &str) -> (String, Vec<&'static str>) {
                 ops.push("change a keyword letter");
                 if let Some(&(s, e)) = field_spans(&lines[at]).first() {
                     let word: Vec<char> = lines[at][s..e].chars().collect();
-                    let k = below(rng, word.len());
+                    let k = rng.below(word.len() as u32) as usize;
                     let mut word = word;
-                    word[k] = match below(rng, 3) {
+                    word[k] = match rng.below(3) as usize {
                         0 => word[k].to_ascii_uppercase(),
-                        1 => (b'a' + below(rng, 26) as u8) as char,
+                        1 => (b'a' + rng.below(26) as u8) as char,
                         _ => *pick(rng, &['x', 'q', 'f', 'p', 's', 'l']),
                     };
                     let word: String = word.into_iter().collect();
