@@ -68,7 +68,9 @@ fn bench_grid(c: &mut Criterion) {
     for n in [1, 16, 64, 256] {
         let scene = sphere_grid(n);
         let view = scene.view();
-        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), n), |b| b.iter(|| scene_pass(isa, &view, &BruteForce, black_box(&p8))));
+        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), n), |b| {
+            b.iter(|| scene_pass(isa, &view, &BruteForce, black_box(&p8)))
+        });
     }
     g.finish();
 }
@@ -103,9 +105,14 @@ fn bench_spd(c: &mut Criterion) {
         let cam = info.camera.unwrap().camera::<f32>(256, 256).unwrap();
         let mut bvh: Box<Bvh<f32, 16384>> = Box::new(Bvh::new());
         bvh.build(&scene.view()).unwrap();
-        let r = Renderer::new(Tracer::<f32, _>::with_accelerator(scene.view(), bvh.view(), TraceSettings::default()).unwrap(), cam);
+        let r = Renderer::new(
+            Tracer::<f32, _>::with_accelerator(scene.view(), bvh.view(), TraceSettings::default()).unwrap(),
+            cam,
+        );
         let mut img = vec![[0u8; 3]; 256 * 256];
-        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), name), |b| b.iter(|| render_pass::<_, 8>(isa, &r, &mut img)));
+        g.bench_function(BenchmarkId::new(format!("{isa}_w8"), name), |b| {
+            b.iter(|| render_pass::<_, 8>(isa, &r, &mut img))
+        });
     }
     g.finish();
 }

@@ -56,7 +56,11 @@ impl DrawTarget for Panel {
         Ok(())
     }
 
-    fn fill_contiguous<I: IntoIterator<Item = Rgb565>>(&mut self, area: &Rectangle, colors: I) -> Result<(), Self::Error> {
+    fn fill_contiguous<I: IntoIterator<Item = Rgb565>>(
+        &mut self,
+        area: &Rectangle,
+        colors: I,
+    ) -> Result<(), Self::Error> {
         // A real driver sets the address window to `area` and streams `colors`.
         self.windows += 1;
         for (p, c) in area.points().zip(colors) {

@@ -17,6 +17,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for p in &image.pixels {
         f.write_all(p)?;
     }
-    eprintln!("{out}: {}x{}, {} rays in {:.3} s ({})", image.width, image.height, image.stats.total(), image.time.as_secs_f64(), image.isa);
+    eprintln!(
+        "{out}: {}x{}, {} rays in {:.3} s ({})",
+        image.width,
+        image.height,
+        image.stats.total(),
+        image.time.as_secs_f64(),
+        image.isa
+    );
     Ok(())
 }

@@ -98,7 +98,14 @@ impl<S: Scalar> Camera<S> {
     /// A camera at `eye` looking at `look_at`, with `up` (any length, not
     /// parallel to the view direction), vertical field of view `vfov_deg`
     /// degrees, for a `width × height` image.
-    pub fn new(eye: Vec3<S>, look_at: Vec3<S>, up: Vec3<S>, vfov_deg: f32, width: u32, height: u32) -> Result<Self, CameraError> {
+    pub fn new(
+        eye: Vec3<S>,
+        look_at: Vec3<S>,
+        up: Vec3<S>,
+        vfov_deg: f32,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, CameraError> {
         if !eye.is_finite() || !look_at.is_finite() || !up.is_finite() || !vfov_deg.is_finite() {
             return Err(CameraError::NonFinite);
         }
@@ -191,7 +198,15 @@ impl<S: Scalar> Camera<S> {
     /// is at `((a + ½)/n, (b + ½)/n)` of the pixel from its top-left corner.
     /// With `n = 1` these are exactly [`Camera::packet`]'s rays.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    pub fn subpixel_packet<const W: usize>(&self, x: u32, y: u32, clip: Rect, n: u32, a: u32, b: u32) -> (RayPacket<S, W>, Mask<W>) {
+    pub fn subpixel_packet<const W: usize>(
+        &self,
+        x: u32,
+        y: u32,
+        clip: Rect,
+        n: u32,
+        a: u32,
+        b: u32,
+    ) -> (RayPacket<S, W>, Mask<W>) {
         let n = n.clamp(1, 256);
         let (a, b) = (a.min(n - 1), b.min(n - 1));
         let (pw, _) = packet_shape(W);
@@ -246,15 +261,7 @@ mod tests {
     use super::*;
 
     fn cam(w: u32, h: u32) -> Camera<f32> {
-        Camera::new(
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(0.0, 0.0, -1.0),
-            Vec3::new(0.0, 1.0, 0.0),
-            90.0,
-            w,
-            h,
-        )
-        .unwrap()
+        Camera::new(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 1.0, 0.0), 90.0, w, h).unwrap()
     }
 
     #[test]
@@ -325,7 +332,10 @@ mod tests {
         use crate::fixed::Fixed;
         let v = |x, y, z| Vec3::<Fixed>::from_f32(x, y, z);
         let r = Camera::<Fixed>::new(v(0.0, 0.0, 5000.0), v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0), 45.0, 8, 8);
-        assert_eq!(r, Err(CameraError::OutOfRange(RangeError { item: RangeItem::Camera, magnitude: 5000, limit: 4096 })));
+        assert_eq!(
+            r,
+            Err(CameraError::OutOfRange(RangeError { item: RangeItem::Camera, magnitude: 5000, limit: 4096 }))
+        );
         let far = Vec3::new(0.0f32, 0.0, 5000.0);
         assert!(Camera::<f32>::new(far, Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0), 45.0, 8, 8).is_ok());
     }

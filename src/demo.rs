@@ -50,10 +50,7 @@ pub fn build_demo_scene<S: Scalar>(s: &mut DemoScene<S>) -> Result<(), SceneErro
 
     s.add_plane(f(0.0), f(0.0), f(1.0), f(0.0), floor)?; // z = 0
     s.add_polygon(&[v(-4.0, 3.0, 0.0), v(4.0, 3.0, 0.0), v(4.0, 3.0, 3.0), v(-4.0, 3.0, 3.0)], floor)?; // back wall
-    s.add_polygon(
-        &[v(2.2, 2.9, 0.5), v(3.4, 2.9, 0.5), v(3.4, 2.9, 2.2), v(2.8, 2.9, 1.2), v(2.2, 2.9, 2.2)],
-        red,
-    )?; // non-convex "M" on the wall
+    s.add_polygon(&[v(2.2, 2.9, 0.5), v(3.4, 2.9, 0.5), v(3.4, 2.9, 2.2), v(2.8, 2.9, 1.2), v(2.2, 2.9, 2.2)], red)?; // non-convex "M" on the wall
     s.add_patch(
         &[v(-3.6, 2.8, 0.3), v(-2.4, 2.8, 0.3), v(-3.0, 2.8, 1.5)],
         &[v(-0.6, -1.0, 0.0), v(0.6, -1.0, 0.0), v(0.0, -1.0, 0.6)],
@@ -91,7 +88,10 @@ pub fn demo_camera<S: Scalar>(width: u32, height: u32) -> Result<Camera<S>, Came
 /// the scene built in `f32` in `described` (so set-up keeps every digit)
 /// and converted ([`Scene::add_similar`]); every other scalar gets it built
 /// directly, in the identity frame, and `described` is left alone.
-pub fn build_demo_scene_for<S: Scalar>(scene: &mut DemoScene<S>, described: &mut DemoScene<f32>) -> Result<Similarity, SceneError> {
+pub fn build_demo_scene_for<S: Scalar>(
+    scene: &mut DemoScene<S>,
+    described: &mut DemoScene<f32>,
+) -> Result<Similarity, SceneError> {
     let Some(half) = S::SCENE_FRAME else {
         build_demo_scene(scene)?;
         return Ok(Similarity::IDENTITY);

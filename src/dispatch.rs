@@ -286,7 +286,9 @@ struct RenderRect<'r, 'a, 'o, 's, S, A, const D: usize, const W: usize> {
     stats: &'s mut RayStats,
 }
 
-impl<S: Scalar, A: Accelerator<S>, const D: usize, const W: usize> IsaKernel for RenderRect<'_, '_, '_, '_, S, A, D, W> {
+impl<S: Scalar, A: Accelerator<S>, const D: usize, const W: usize> IsaKernel
+    for RenderRect<'_, '_, '_, '_, S, A, D, W>
+{
     type Output = Result<(), BufferTooSmall>;
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn run(self) -> Self::Output {

@@ -57,12 +57,12 @@
 //!
 //! [embedded-graphics]: https://docs.rs/embedded-graphics/0.8
 
+use crate::camera::Rect;
 use crate::output::{rgb565, BandError, Dither, RectPositions};
 use crate::query::Accelerator;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
 use crate::scalar::Scalar;
 use crate::trace::RayStats;
-use crate::camera::Rect;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
 use embedded_graphics_core::pixelcolor::raw::RawU16;
@@ -247,7 +247,10 @@ mod tests {
             }
         }
         fn put(&mut self, p: Point, c: C) {
-            assert!(p.x >= 0 && p.y >= 0 && (p.x as u32) < self.size.width && (p.y as u32) < self.size.height, "outside: {p:?}");
+            assert!(
+                p.x >= 0 && p.y >= 0 && (p.x as u32) < self.size.width && (p.y as u32) < self.size.height,
+                "outside: {p:?}"
+            );
             let slot = &mut self.pixels[(p.y as u32 * self.size.width + p.x as u32) as usize];
             assert!(slot.is_none(), "pixel {p:?} drawn twice");
             *slot = Some(c);
@@ -277,7 +280,11 @@ mod tests {
             }
             Ok(())
         }
-        fn fill_contiguous<I: IntoIterator<Item = C>>(&mut self, area: &Rectangle, colors: I) -> Result<(), Self::Error> {
+        fn fill_contiguous<I: IntoIterator<Item = C>>(
+            &mut self,
+            area: &Rectangle,
+            colors: I,
+        ) -> Result<(), Self::Error> {
             if self.fail_on_call == Some(self.fills.len()) {
                 return Err("bus error");
             }
@@ -524,7 +531,8 @@ mod tests {
 
         // MockDisplay panics on out-of-bounds drawing and on overdraw.
         let mut display: MockDisplay<Rgb565> = MockDisplay::new();
-        r.draw_bands::<8, _>(&mut display, Point::new(40, 44), &mut band, CHECKSUM_DITHER, &mut RayStats::default()).unwrap();
+        r.draw_bands::<8, _>(&mut display, Point::new(40, 44), &mut band, CHECKSUM_DITHER, &mut RayStats::default())
+            .unwrap();
         assert_eq!(display.affected_area(), Rectangle::new(Point::new(40, 44), Size::new(24, 20)));
         for y in 0..20u32 {
             for x in 0..24u32 {
@@ -537,8 +545,14 @@ mod tests {
         // A clipped view: its bounding box does not start at the origin.
         let mut display: MockDisplay<Rgb888> = MockDisplay::new();
         let window = Rectangle::new(Point::new(10, 12), Size::new(7, 5));
-        r.draw_bands::<4, _>(&mut display.clipped(&window), Point::new(4, 6), &mut band, Dither::None, &mut RayStats::default())
-            .unwrap();
+        r.draw_bands::<4, _>(
+            &mut display.clipped(&window),
+            Point::new(4, 6),
+            &mut band,
+            Dither::None,
+            &mut RayStats::default(),
+        )
+        .unwrap();
         assert_eq!(display.affected_area(), window);
         for y in 12..17u32 {
             for x in 10..17u32 {

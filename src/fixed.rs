@@ -211,14 +211,38 @@ impl Div for Fixed {
 /// nearest (computed with 60-digit decimal arithmetic; the unit test
 /// `exp2_table_matches_f64` checks every entry against `f64`).
 const EXP2_TABLE: [u64; 32] = [
-    0x5A827999FCEF3242, 0x4C1BF828C6DC54B8, 0x45CAE0F1F545EB73, 0x42D561B3E6243D8A,
-    0x4166C34C5615D0EC, 0x40B268F9DE0183BA, 0x4058F6A7ECCCD5B6, 0x402C6BE96AF2FB58,
-    0x4016321B687027A8, 0x400B18178BA33B14, 0x40058BCE410147E8, 0x4002C5D7BFF71DAF,
-    0x400162E807EE7E5B, 0x4000B1730DF6A524, 0x400058B9497B8152, 0x40002C5C955DD701,
-    0x4000162E46D6F26C, 0x40000B1722757B1B, 0x4000058B90FD3E0C, 0x400002C5C86F3F26,
-    0x40000162E433C79B, 0x400000B17218EDD0, 0x40000058B90C3968, 0x4000002C5C860D54,
-    0x400000162E4302D2, 0x4000000B17218073, 0x400000058B90BFFC, 0x40000002C5C85FEF,
-    0x4000000162E42FF3, 0x40000000B17217F9, 0x4000000058B90BFC, 0x400000002C5C85FE,
+    0x5A827999FCEF3242,
+    0x4C1BF828C6DC54B8,
+    0x45CAE0F1F545EB73,
+    0x42D561B3E6243D8A,
+    0x4166C34C5615D0EC,
+    0x40B268F9DE0183BA,
+    0x4058F6A7ECCCD5B6,
+    0x402C6BE96AF2FB58,
+    0x4016321B687027A8,
+    0x400B18178BA33B14,
+    0x40058BCE410147E8,
+    0x4002C5D7BFF71DAF,
+    0x400162E807EE7E5B,
+    0x4000B1730DF6A524,
+    0x400058B9497B8152,
+    0x40002C5C955DD701,
+    0x4000162E46D6F26C,
+    0x40000B1722757B1B,
+    0x4000058B90FD3E0C,
+    0x400002C5C86F3F26,
+    0x40000162E433C79B,
+    0x400000B17218EDD0,
+    0x40000058B90C3968,
+    0x4000002C5C860D54,
+    0x400000162E4302D2,
+    0x4000000B17218073,
+    0x400000058B90BFFC,
+    0x40000002C5C85FEF,
+    0x4000000162E42FF3,
+    0x40000000B17217F9,
+    0x4000000058B90BFC,
+    0x400000002C5C85FE,
 ];
 
 /// One in unsigned 1.62 fixed point.
@@ -361,7 +385,21 @@ mod tests {
         /// Raw operands: extremes, small integers, values near one, and
         /// uniformly random bits at every magnitude.
         fn raw(&mut self) -> i64 {
-            let special = [0, 1, -1, RAW_MAX, RAW_MIN, i64::MIN, RAW_ONE, -RAW_ONE, RAW_ONE - 1, RAW_ONE + 1, 1 << 62, -(1 << 62), 1 << 31];
+            let special = [
+                0,
+                1,
+                -1,
+                RAW_MAX,
+                RAW_MIN,
+                i64::MIN,
+                RAW_ONE,
+                -RAW_ONE,
+                RAW_ONE - 1,
+                RAW_ONE + 1,
+                1 << 62,
+                -(1 << 62),
+                1 << 31,
+            ];
             match self.next() % 4 {
                 0 => special[(self.next() % special.len() as u64) as usize],
                 1 => (self.next() as i64) >> (self.next() % 64),

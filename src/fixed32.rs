@@ -411,7 +411,7 @@ fn mul_raw_limbs(a: i32, b: i32) -> i32 {
     let mid = xl * yh + xh * yl; // < 2·2¹⁶·2¹⁵ = 2³²
     let (lo, c1) = (xl * yl).overflowing_add(mid << 16);
     let hi = xh * yh + (mid >> 16) + c1 as u32; // P = hi·2³² + lo, hi ≤ 2³⁰
-    // Round: add the bias to the 64-bit magnitude.
+                                                // Round: add the bias to the 64-bit magnitude.
     let (lo, c2) = lo.overflowing_add(HALF_ULP as u32 - neg as u32);
     let hi = hi + c2 as u32;
     // |result| = ⌊(P + bias)/2^FRAC⌋; it exceeds MAX iff it is ≥ 2³¹, i.e.
@@ -565,14 +565,20 @@ fn div_words(u1: u32, u0: u32, d: u32) -> (u32, u32) {
     }
     #[cfg(all(
         not(target_pointer_width = "64"),
-        any(all(target_arch = "arm", not(target_has_atomic = "32")), all(target_arch = "riscv32", not(target_feature = "m")))
+        any(
+            all(target_arch = "arm", not(target_has_atomic = "32")),
+            all(target_arch = "riscv32", not(target_feature = "m"))
+        )
     ))]
     {
         div_words_reciprocal(u1, u0, d)
     }
     #[cfg(all(
         not(target_pointer_width = "64"),
-        not(any(all(target_arch = "arm", not(target_has_atomic = "32")), all(target_arch = "riscv32", not(target_feature = "m"))))
+        not(any(
+            all(target_arch = "arm", not(target_has_atomic = "32")),
+            all(target_arch = "riscv32", not(target_feature = "m"))
+        ))
     ))]
     {
         div_words_hw32(u1, u0, d)
@@ -593,7 +599,13 @@ fn div_raw_with(a: i32, b: i32, words: impl Fn(u32, u32, u32) -> (u32, u32)) -> 
     let neg = (a ^ b) < 0;
     let sat = if neg { RAW_MIN } else { RAW_MAX };
     if b == 0 {
-        return if a == 0 { 0 } else if a > 0 { RAW_MAX } else { RAW_MIN };
+        return if a == 0 {
+            0
+        } else if a > 0 {
+            RAW_MAX
+        } else {
+            RAW_MIN
+        };
     }
     let (x, y) = (a.unsigned_abs(), b.unsigned_abs());
     // The quotient x·2^FRAC/y is ≥ 2³¹ (saturates) iff x ≥ 2^(31−FRAC)·y,
@@ -633,9 +645,8 @@ fn div_raw(a: i32, b: i32) -> i32 {
 
 /// Seeds for `2³¹/√t`, `t ∈ [2³⁰, 2³²)`, indexed by `t >> 27` (8..=31): the
 /// value at each interval's midpoint as `(y − 2¹⁵)/2⁷`, rounded (≈ 5 bits).
-const RSQRT_SEED: [u8; 24] = [
-    241, 214, 191, 171, 154, 138, 124, 112, 101, 90, 81, 72, 64, 56, 49, 43, 37, 31, 25, 20, 15, 11, 6, 2,
-];
+const RSQRT_SEED: [u8; 24] =
+    [241, 214, 191, 171, 154, 138, 124, 112, 101, 90, 81, 72, 64, 56, 49, 43, 37, 31, 25, 20, 15, 11, 6, 2];
 
 /// `round(√(a·2^FRAC))` for `0 < a < 2³¹`.
 ///
@@ -649,8 +660,8 @@ fn sqrt_raw(a: u32) -> u32 {
     // n = a·2^FRAC = g·2^F' with F' = FRAC rounded down to even.
     let odd = FRAC & 1;
     let g = a << odd; // < 2³²
-    // Normalise by an even shift: t = g·4^(z/2) ∈ [2³⁰, 2³²), so that
-    // √n = √(t·2³²)·2^−k with k = 16 − F'/2 + z/2 ≥ 3.
+                      // Normalise by an even shift: t = g·4^(z/2) ∈ [2³⁰, 2³²), so that
+                      // √n = √(t·2³²)·2^−k with k = 16 − F'/2 + z/2 ≥ 3.
     let z = clz(g) & !1;
     let t = g.wrapping_shl(z); // z ≤ 30
     let k = (16 - (FRAC - odd) / 2).wrapping_add(z / 2);
@@ -691,7 +702,7 @@ fn sqrt_raw(a: u32) -> u32 {
     // error a few units, the dropped term below one).
     let f = (delta as u32 >> 1).wrapping_mul(y) >> 15;
     let root = (s << 16).wrapping_add(f); // ≈ √(t·2³²), within a few units
-    // Scale to √n and round: r̂ = round(root/2^k), within ±1 of the answer.
+                                          // Scale to √n and round: r̂ = round(root/2^k), within ±1 of the answer.
     let mut r = (root >> (k.wrapping_sub(1) & 31)).wrapping_add(1) >> 1;
     // Exact final rounding with D = n − r̂² (|D| < 2³¹, so modulo 2³² is
     // exact): r is round(√n) iff −r < D ≤ r (as (r − ½)² ≤ n < (r + ½)²,
@@ -718,8 +729,20 @@ const POW_STEPS: usize = 14;
 /// `log₂(1 + 2⁻ⁱ)` for `i = 1 ..= 14` as Q.30, rounded to nearest (from
 /// 60-digit decimal arithmetic; `pow_table_matches_f64` checks each entry).
 const LOG2_STEP: [u32; POW_STEPS] = [
-    628_098_702, 345_667_660, 182_455_581, 93_912_511, 47_667_823, 24_017_256, 12_055_174,
-    6_039_314, 3_022_600, 1_512_037, 756_203, 378_148, 189_085, 94_546,
+    628_098_702,
+    345_667_660,
+    182_455_581,
+    93_912_511,
+    47_667_823,
+    24_017_256,
+    12_055_174,
+    6_039_314,
+    3_022_600,
+    1_512_037,
+    756_203,
+    378_148,
+    189_085,
+    94_546,
 ];
 
 /// `1/ln 2` in Q.15 and `ln 2` in Q.16 (the first-order finishes).
@@ -800,7 +823,7 @@ fn powf_raw(x: i32, e: i32) -> i32 {
     let f = w.wrapping_neg() & ((1 << 26) - 1);
     let kk = w.wrapping_add((1 << 26) - 1) >> 26; // ≤ FRAC + 1
     let p = exp2_fraction(f); // 2^f in Q1.31
-    // raw = round(p·2^−kk·2^FRAC/2³¹): shift by 31 − FRAC + kk ∈ [7, 32], rounding.
+                              // raw = round(p·2^−kk·2^FRAC/2³¹): shift by 31 − FRAC + kk ∈ [7, 32], rounding.
     let sh = (31 - FRAC).wrapping_add(kk);
     ((p >> (sh.wrapping_sub(1) & 31)).wrapping_add(1) >> 1) as i32
 }
@@ -1056,8 +1079,24 @@ mod tests {
         /// the saturation thresholds, and random bits at every magnitude.
         fn raw(&mut self) -> i32 {
             let special = [
-                0, 1, -1, 2, RAW_MAX, RAW_MIN, RAW_MAX - 1, i32::MIN, RAW_ONE, -RAW_ONE, RAW_ONE - 1, RAW_ONE + 1,
-                RAW_ONE / 2, 1 << 30, -(1 << 30), 1 << 15, 46_341 << 12, 0xB504,
+                0,
+                1,
+                -1,
+                2,
+                RAW_MAX,
+                RAW_MIN,
+                RAW_MAX - 1,
+                i32::MIN,
+                RAW_ONE,
+                -RAW_ONE,
+                RAW_ONE - 1,
+                RAW_ONE + 1,
+                RAW_ONE / 2,
+                1 << 30,
+                -(1 << 30),
+                1 << 15,
+                46_341 << 12,
+                0xB504,
             ];
             let r = self.u32();
             match self.next() % 5 {
@@ -1201,7 +1240,26 @@ mod tests {
             assert_eq!(mul_raw_native(a, b), want, "{a} * {b}");
             assert_eq!(mul_raw_limbs(a, b), want, "{a} * {b} (limbs)");
         };
-        let edges = [0, 1, -1, 2, -2, RAW_MAX, RAW_MIN, i32::MIN, RAW_ONE, -RAW_ONE, RAW_ONE / 2, -RAW_ONE / 2, 0xB504_F33, -0xB504_F33, 0xB504_F34, 0xFFFF, 0x10000, -0x10000];
+        let edges = [
+            0,
+            1,
+            -1,
+            2,
+            -2,
+            RAW_MAX,
+            RAW_MIN,
+            i32::MIN,
+            RAW_ONE,
+            -RAW_ONE,
+            RAW_ONE / 2,
+            -RAW_ONE / 2,
+            0xB504_F33,
+            -0xB504_F33,
+            0xB504_F34,
+            0xFFFF,
+            0x10000,
+            -0x10000,
+        ];
         for &a in &edges {
             for &b in &edges {
                 check(a, b);
@@ -1243,7 +1301,13 @@ mod tests {
     /// The exact reference: `round(a·2^FRAC/b)`, ties away from zero, clamped.
     fn div_reference(a: i32, b: i32) -> i32 {
         if b == 0 {
-            return if a > 0 { RAW_MAX } else if a < 0 { RAW_MIN } else { 0 };
+            return if a > 0 {
+                RAW_MAX
+            } else if a < 0 {
+                RAW_MIN
+            } else {
+                0
+            };
         }
         let (n, d) = ((a as i128) << FRAC, b as i128);
         let (q, r) = (n / d, n % d); // truncated: r has n's sign
@@ -1272,7 +1336,29 @@ mod tests {
             assert_eq!(div_raw_with(a, b, div_words_hw32), want, "{a} / {b} (hw32)");
             assert_eq!(div_raw_with(a, b, div_words_reciprocal), want, "{a} / {b} (reciprocal)");
         };
-        let edges = [0, 1, -1, 2, 3, RAW_MAX, RAW_MIN, i32::MIN, RAW_ONE, -RAW_ONE, RAW_ONE - 1, RAW_ONE + 1, 1 << 30, (1 << 30) + 1, 0x7FFF, 0x8000, 0xFFFF, 0x1_0000, 0x1_0001, RAW_MAX >> (31 - FRAC), (RAW_MAX >> (31 - FRAC)) + 1];
+        let edges = [
+            0,
+            1,
+            -1,
+            2,
+            3,
+            RAW_MAX,
+            RAW_MIN,
+            i32::MIN,
+            RAW_ONE,
+            -RAW_ONE,
+            RAW_ONE - 1,
+            RAW_ONE + 1,
+            1 << 30,
+            (1 << 30) + 1,
+            0x7FFF,
+            0x8000,
+            0xFFFF,
+            0x1_0000,
+            0x1_0001,
+            RAW_MAX >> (31 - FRAC),
+            (RAW_MAX >> (31 - FRAC)) + 1,
+        ];
         for &a in &edges {
             for &b in &edges {
                 check(a, b);
@@ -1308,8 +1394,16 @@ mod tests {
         }
         for i in 0..2_000_000u32 {
             let d = rng.u32() | 0x8000_0000;
-            let d = match i % 4 { 0 => d | 0xFFFF, 1 => d & 0xFFFF_0000, _ => d };
-            let u1 = match i % 3 { 0 => d - 1 - (rng.u32() & 0xFF).min(d - 1), 1 => rng.u32() % d, _ => (rng.u32() >> (rng.u32() % 32)) % d };
+            let d = match i % 4 {
+                0 => d | 0xFFFF,
+                1 => d & 0xFFFF_0000,
+                _ => d,
+            };
+            let u1 = match i % 3 {
+                0 => d - 1 - (rng.u32() & 0xFF).min(d - 1),
+                1 => rng.u32() % d,
+                _ => (rng.u32() >> (rng.u32() % 32)) % d,
+            };
             check(u1, rng.u32(), d);
         }
     }
@@ -1341,7 +1435,17 @@ mod tests {
 
     #[test]
     fn sqrt_is_correctly_rounded() {
-        for raw in (0..4096).chain([RAW_MAX, RAW_MAX - 1, RAW_ONE, RAW_ONE - 1, 4 * RAW_ONE, -1, RAW_MIN, 1 << 30, (1 << 30) - 1]) {
+        for raw in (0..4096).chain([
+            RAW_MAX,
+            RAW_MAX - 1,
+            RAW_ONE,
+            RAW_ONE - 1,
+            4 * RAW_ONE,
+            -1,
+            RAW_MIN,
+            1 << 30,
+            (1 << 30) - 1,
+        ]) {
             sqrt_ok(raw);
         }
         for s in 0..31 {
@@ -1433,9 +1537,10 @@ mod tests {
         let mut xs: Vec<i32> = (1..=RAW_ONE).step_by(4_093).collect();
         xs.extend((1..20_000).map(|k| RAW_ONE - k * 7));
         xs.extend((0..24).map(|s| 1 << s));
-        let es: Vec<f64> = [0.001, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 5.0, 7.7, 10.0, 16.0, 20.0, 32.0, 50.0, 64.0, 100.0, 127.0, 127.99]
-            .into_iter()
-            .collect();
+        let es: Vec<f64> =
+            [0.001, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 5.0, 7.7, 10.0, 16.0, 20.0, 32.0, 50.0, 64.0, 100.0, 127.0, 127.99]
+                .into_iter()
+                .collect();
         for &x in &xs {
             for &e in &es {
                 let (xf, ef) = (Fixed32::from_bits(x), fx(e));

@@ -351,13 +351,28 @@ impl<S: Scalar> LoadedScene for Loaded<'_, S> {
         let time = start.elapsed();
         let packet = packet_used::<S>(options.packet);
         let isa = options.isa.used_for::<S>(packet);
-        Ok(Image { width: region.w, height: region.h, region, full_size: (width, height), pixels, stats, isa, packet, threads, accel: kind, time })
+        Ok(Image {
+            width: region.w,
+            height: region.h,
+            region,
+            full_size: (width, height),
+            pixels,
+            stats,
+            isa,
+            packet,
+            threads,
+            accel: kind,
+            time,
+        })
     }
 }
 
 /// Whether `r` is a non-empty rectangle inside an image of `size`.
 fn region_inside(r: Rect, size: (u32, u32)) -> bool {
-    r.w >= 1 && r.h >= 1 && r.x.checked_add(r.w).is_some_and(|e| e <= size.0) && r.y.checked_add(r.h).is_some_and(|e| e <= size.1)
+    r.w >= 1
+        && r.h >= 1
+        && r.x.checked_add(r.w).is_some_and(|e| e <= size.0)
+        && r.y.checked_add(r.h).is_some_and(|e| e <= size.1)
 }
 
 /// The number of worker threads for `asked` (`None`: one per core).
@@ -372,7 +387,9 @@ fn threads(asked: Option<usize>) -> Result<usize, Error> {
 /// Image size: the file's resolution, or the overrides; one override alone
 /// keeps the file's aspect ratio (rounded, at least 1, at most 65 535).
 pub fn image_size(width: Option<u32>, height: Option<u32>, file: (u32, u32)) -> (u32, u32) {
-    let scaled = |a: u32, num: u32, den: u32| ((a as u64 * num as u64 + den as u64 / 2) / den.max(1) as u64).clamp(1, 65535) as u32;
+    let scaled = |a: u32, num: u32, den: u32| {
+        ((a as u64 * num as u64 + den as u64 / 2) / den.max(1) as u64).clamp(1, 65535) as u32
+    };
     match (width, height) {
         (Some(w), Some(h)) => (w, h),
         (Some(w), None) => (w, scaled(w, file.1, file.0)),
@@ -392,14 +409,24 @@ fn fits(c: &NffCounts, p: usize, v: usize, m: usize, l: usize) -> bool {
 /// capacity error), builds a BVH over it unless `accel` is brute force, and
 /// runs `f` on it, on a thread whose stack holds the scene. Returns what
 /// `f` returns.
-pub fn with_scene<T: Send>(text: &str, scalar: ScalarKind, accel: AccelKind, f: impl FnOnce(&dyn LoadedScene) -> T + Send) -> Result<T, Error> {
+pub fn with_scene<T: Send>(
+    text: &str,
+    scalar: ScalarKind,
+    accel: AccelKind,
+    f: impl FnOnce(&dyn LoadedScene) -> T + Send,
+) -> Result<T, Error> {
     match scalar {
         ScalarKind::F32 => with_tier::<f32, T>(text, scalar, accel, f),
         ScalarKind::Fixed32 => with_tier::<Fixed32, T>(text, scalar, accel, f),
     }
 }
 
-fn with_tier<S: Scalar, T: Send>(text: &str, scalar: ScalarKind, accel: AccelKind, f: impl FnOnce(&dyn LoadedScene) -> T + Send) -> Result<T, Error> {
+fn with_tier<S: Scalar, T: Send>(
+    text: &str,
+    scalar: ScalarKind,
+    accel: AccelKind,
+    f: impl FnOnce(&dyn LoadedScene) -> T + Send,
+) -> Result<T, Error> {
     let counts = nff::scan(text).map_err(Error::Scene)?.counts;
     let accel = accel == AccelKind::Bvh;
     if fits(&counts, 1 << 10, 1 << 13, 256, 64) {
@@ -428,38 +455,48 @@ fn load_in<S: Scalar, const P: usize, const V: usize, const M: usize, const L: u
     let described = if S::SCENE_FRAME.is_some() { std::mem::size_of::<Scene<f32, P, V, M, L>>() } else { 0 };
     let stack = 2 * (std::mem::size_of::<Scene<S, P, V, M, L>>() + described + tree) + (32 << 20);
     std::thread::scope(|s| {
-        let worker = std::thread::Builder::new().name("raypack-scene".into()).stack_size(stack).spawn_scoped(s, move || {
-            let mut scene = Scene::<S, P, V, M, L>::new();
-            let (nff, frame) = match S::SCENE_FRAME {
-                None => (nff::parse(text, &mut scene).map_err(Error::Scene)?, Similarity::IDENTITY),
-                Some(half) => {
-                    // Read in f32, in the file's units, then convert into
-                    // the scalar's frame: the box of the bounded primitives
-                    // and the eye, centred, its largest half-extent `half`.
-                    let mut described = Scene::<f32, P, V, M, L>::new();
-                    let nff = nff::parse(text, &mut described).map_err(Error::Scene)?;
-                    let eye = nff.camera.map(|c| crate::vec3::Vec3::new(c.from[0], c.from[1], c.from[2]));
-                    let frame = described.view().fitting_frame(eye, half);
-                    scene.add_similar(&described.view(), &frame).map_err(Error::Convert)?;
-                    (nff, frame)
+        let worker =
+            std::thread::Builder::new().name("raypack-scene".into()).stack_size(stack).spawn_scoped(s, move || {
+                let mut scene = Scene::<S, P, V, M, L>::new();
+                let (nff, frame) = match S::SCENE_FRAME {
+                    None => (nff::parse(text, &mut scene).map_err(Error::Scene)?, Similarity::IDENTITY),
+                    Some(half) => {
+                        // Read in f32, in the file's units, then convert into
+                        // the scalar's frame: the box of the bounded primitives
+                        // and the eye, centred, its largest half-extent `half`.
+                        let mut described = Scene::<f32, P, V, M, L>::new();
+                        let nff = nff::parse(text, &mut described).map_err(Error::Scene)?;
+                        let eye = nff.camera.map(|c| crate::vec3::Vec3::new(c.from[0], c.from[1], c.from[2]));
+                        let frame = described.view().fitting_frame(eye, half);
+                        scene.add_similar(&described.view(), &frame).map_err(Error::Convert)?;
+                        (nff, frame)
+                    }
+                };
+                let mut info = SceneInfo {
+                    nff,
+                    degenerate: scene.degenerate_polygons(),
+                    capacity: (P, V, M, L),
+                    bvh: None,
+                    scalar,
+                };
+                if !accel {
+                    return Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::BruteForce, info, frame }));
                 }
-            };
-            let mut info = SceneInfo { nff, degenerate: scene.degenerate_polygons(), capacity: (P, V, M, L), bvh: None, scalar };
-            if !accel {
-                return Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::BruteForce, info, frame }));
-            }
-            let mut bvh = Bvh::<S, P>::new();
-            // Pad the boxes for rays that start as far out as the eye (in
-            // the scene's frame).
-            let reach = nff.camera.map_or(0.0, |c| {
-                let e: crate::vec3::Vec3<f32> = frame.point(crate::vec3::Vec3::new(c.from[0], c.from[1], c.from[2]));
-                e.max_abs()
+                let mut bvh = Bvh::<S, P>::new();
+                // Pad the boxes for rays that start as far out as the eye (in
+                // the scene's frame).
+                let reach = nff.camera.map_or(0.0, |c| {
+                    let e: crate::vec3::Vec3<f32> =
+                        frame.point(crate::vec3::Vec3::new(c.from[0], c.from[1], c.from[2]));
+                    e.max_abs()
+                });
+                let start = Instant::now();
+                let stats = bvh
+                    .build_with(&scene.view(), &BuildSettings { reach, ..BuildSettings::default() })
+                    .map_err(Error::Bvh)?;
+                info.bvh = Some((stats, start.elapsed()));
+                Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::Bvh(bvh.view()), info, frame }))
             });
-            let start = Instant::now();
-            let stats = bvh.build_with(&scene.view(), &BuildSettings { reach, ..BuildSettings::default() }).map_err(Error::Bvh)?;
-            info.bvh = Some((stats, start.elapsed()));
-            Ok(f(&Loaded { view: scene.view(), accel: AccelChoice::Bvh(bvh.view()), info, frame }))
-        });
         match worker {
             Ok(handle) => handle.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
             Err(e) => Err(Error::Thread(e)),
@@ -545,7 +582,12 @@ pub fn render_tiles<S: Scalar, A: Accelerator<S> + Sync, const D: usize>(
     let stats = std::thread::scope(|s| -> Result<RayStats, Error> {
         let mut handles = Vec::new();
         for k in 1..workers {
-            handles.push(std::thread::Builder::new().name(format!("raypack-tile-{k}")).spawn_scoped(s, work).map_err(Error::Thread)?);
+            handles.push(
+                std::thread::Builder::new()
+                    .name(format!("raypack-tile-{k}"))
+                    .spawn_scoped(s, work)
+                    .map_err(Error::Thread)?,
+            );
         }
         let mut stats = work();
         for h in handles {
@@ -632,7 +674,12 @@ mod tests {
 
     #[test]
     fn tiles_are_bands_that_cover_a_rectangle_once_on_the_image_grid() {
-        for rect in [Rect { x: 0, y: 0, w: 1, h: 1 }, Rect { x: 0, y: 0, w: 31, h: 33 }, Rect { x: 5, y: 30, w: 64, h: 64 }, Rect { x: 31, y: 1, w: 100, h: 7 }] {
+        for rect in [
+            Rect { x: 0, y: 0, w: 1, h: 1 },
+            Rect { x: 0, y: 0, w: 31, h: 33 },
+            Rect { x: 5, y: 30, w: 64, h: 64 },
+            Rect { x: 31, y: 1, w: 100, h: 7 },
+        ] {
             let mut seen = vec![0u8; ((rect.x + rect.w) * (rect.y + rect.h)) as usize];
             let stride = rect.x + rect.w;
             for t in tiles(rect, TILE) {
@@ -652,7 +699,12 @@ mod tests {
             }
         }
         assert!(tiles(Rect { x: 3, y: 3, w: 0, h: 5 }, TILE).is_empty());
-        for rect in [Rect { x: 0, y: 0, w: 1, h: 1 }, Rect { x: 31, y: 1, w: 100, h: 7 }, Rect { x: 5, y: 30, w: 64, h: 64 }, Rect { x: 2, y: 2, w: 0, h: 9 }] {
+        for rect in [
+            Rect { x: 0, y: 0, w: 1, h: 1 },
+            Rect { x: 31, y: 1, w: 100, h: 7 },
+            Rect { x: 5, y: 30, w: 64, h: 64 },
+            Rect { x: 2, y: 2, w: 0, h: 9 },
+        ] {
             assert_eq!(tile_count(rect, TILE), tiles(rect, TILE).len() as u64, "{rect:?}");
         }
         assert_eq!(tiles(Rect { x: 0, y: 0, w: 3, h: 2 }, 1).len(), 2);
@@ -687,7 +739,8 @@ mod tests {
 
     #[test]
     fn bad_options_are_errors() {
-        let scene = "v\nfrom 0 -5 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 1\nresolution 8 8\nf 1 1 1 1 0 0 0 0\ns 0 0 0 1\n";
+        let scene =
+            "v\nfrom 0 -5 0\nat 0 0 0\nup 0 0 1\nangle 40\nhither 1\nresolution 8 8\nf 1 1 1 1 0 0 0 0\ns 0 0 0 1\n";
         let e = Image::render(scene, &Options { packet: 3, ..Options::default() }).unwrap_err();
         assert!(matches!(e, Error::Packet(3)), "{e}");
         let e = Image::render(scene, &Options { threads: Some(0), ..Options::default() }).unwrap_err();
@@ -733,23 +786,44 @@ mod tests {
     fn regions_are_the_same_rectangle_of_the_full_render_at_any_packet_width_and_thread_count() {
         let scene = include_str!("../tests/scenes/extensions.nff");
         for sampling in [Sampling::Centre, Sampling::Grid(2), Sampling::adaptive(3, 0.1)] {
-            let base = Options { width: Some(45), height: Some(37), packet: 1, threads: Some(1), sampling, ..Options::default() };
+            let base = Options {
+                width: Some(45),
+                height: Some(37),
+                packet: 1,
+                threads: Some(1),
+                sampling,
+                ..Options::default()
+            };
             let full = Image::render(scene, &base).unwrap();
             assert_eq!((full.region, full.full_size), (Rect { x: 0, y: 0, w: 45, h: 37 }, (45, 37)));
             // Unaligned to packets (4×4), tiles (32) and adaptive blocks (16).
-            for (k, region) in [Rect { x: 0, y: 0, w: 45, h: 37 }, Rect { x: 3, y: 5, w: 30, h: 31 }, Rect { x: 31, y: 15, w: 14, h: 3 }, Rect { x: 44, y: 36, w: 1, h: 1 }, Rect { x: 17, y: 0, w: 1, h: 37 }]
-                .into_iter()
-                .enumerate()
+            for (k, region) in [
+                Rect { x: 0, y: 0, w: 45, h: 37 },
+                Rect { x: 3, y: 5, w: 30, h: 31 },
+                Rect { x: 31, y: 15, w: 14, h: 3 },
+                Rect { x: 44, y: 36, w: 1, h: 1 },
+                Rect { x: 17, y: 0, w: 1, h: 37 },
+            ]
+            .into_iter()
+            .enumerate()
             {
                 let packet = [1, 4, 8, 16, 8][k];
                 let o = Options { region: Some(region), packet, threads: Some(1 + k % 3), ..base };
                 let part = Image::render(scene, &o).unwrap();
-                assert_eq!((part.width, part.height, part.region, part.full_size), (region.w, region.h, region, (45, 37)));
+                assert_eq!(
+                    (part.width, part.height, part.region, part.full_size),
+                    (region.w, region.h, region, (45, 37))
+                );
                 assert!(part.pixels == crop(&full.pixels, 45, region), "{sampling:?} {o:?}");
             }
         }
         let scene = include_str!("../tests/scenes/balls-1.nff");
-        for region in [Rect { x: 0, y: 0, w: 0, h: 3 }, Rect { x: 10, y: 0, w: 31, h: 3 }, Rect { x: 0, y: 30, w: 1, h: 1 }, Rect { x: u32::MAX, y: 0, w: 2, h: 1 }] {
+        for region in [
+            Rect { x: 0, y: 0, w: 0, h: 3 },
+            Rect { x: 10, y: 0, w: 31, h: 3 },
+            Rect { x: 0, y: 30, w: 1, h: 1 },
+            Rect { x: u32::MAX, y: 0, w: 2, h: 1 },
+        ] {
             let o = Options { width: Some(40), height: Some(30), region: Some(region), ..Options::default() };
             let e = Image::render(scene, &o).unwrap_err();
             assert!(matches!(e, Error::Region { size: (40, 30), .. }), "{e}");
@@ -760,9 +834,27 @@ mod tests {
     #[test]
     fn anti_aliasing_gives_the_same_bytes_and_rays_at_every_packet_width_thread_count_and_isa() {
         let scene = include_str!("../tests/scenes/extensions.nff");
-        let plain = Image::render(scene, &Options { width: Some(36), height: Some(28), packet: 1, threads: Some(1), ..Options::default() }).unwrap();
-        for sampling in [Sampling::Grid(1), Sampling::Grid(3), Sampling::adaptive(2, 0.3), Sampling::adaptive(4, 0.0), Sampling::adaptive(3, 3.0)] {
-            let base = Options { width: Some(36), height: Some(28), packet: 1, threads: Some(1), isa: Isa::Baseline, sampling, ..Options::default() };
+        let plain = Image::render(
+            scene,
+            &Options { width: Some(36), height: Some(28), packet: 1, threads: Some(1), ..Options::default() },
+        )
+        .unwrap();
+        for sampling in [
+            Sampling::Grid(1),
+            Sampling::Grid(3),
+            Sampling::adaptive(2, 0.3),
+            Sampling::adaptive(4, 0.0),
+            Sampling::adaptive(3, 3.0),
+        ] {
+            let base = Options {
+                width: Some(36),
+                height: Some(28),
+                packet: 1,
+                threads: Some(1),
+                isa: Isa::Baseline,
+                sampling,
+                ..Options::default()
+            };
             let reference = Image::render(scene, &base).unwrap();
             for (packet, threads) in [(4, 2), (8, 1), (16, 3)] {
                 for isa in Isa::ALL.into_iter().filter(|i| i.is_available()) {
@@ -775,7 +867,9 @@ mod tests {
             let pixels = 36 * 28;
             match sampling {
                 // One subsample: the centre rays exactly.
-                Sampling::Grid(1) => assert_eq!((reference.pixels.clone(), reference.stats.primary), (plain.pixels.clone(), pixels)),
+                Sampling::Grid(1) => {
+                    assert_eq!((reference.pixels.clone(), reference.stats.primary), (plain.pixels.clone(), pixels))
+                }
                 Sampling::Grid(n) => {
                     assert_eq!(reference.stats.primary, pixels * (n as u64).pow(2));
                     assert_ne!(reference.pixels, plain.pixels);
@@ -784,7 +878,11 @@ mod tests {
                 // alone, plus the rings of the 16×16 blocks.
                 Sampling::Adaptive { threshold: 765, .. } => {
                     assert_eq!(reference.pixels, plain.pixels);
-                    assert!(reference.stats.primary > pixels && reference.stats.primary < pixels * 3 / 2, "{:?}", reference.stats);
+                    assert!(
+                        reference.stats.primary > pixels && reference.stats.primary < pixels * 3 / 2,
+                        "{:?}",
+                        reference.stats
+                    );
                 }
                 _ => {
                     assert_ne!(reference.pixels, plain.pixels);
@@ -794,12 +892,26 @@ mod tests {
         }
         // Threshold 0 supersamples every pixel that differs from a neighbour
         // at all; the supersampled pixels equal those of the full grid.
-        let grid = Image::render(scene, &Options { width: Some(36), height: Some(28), sampling: Sampling::Grid(4), ..Options::default() }).unwrap();
-        let adaptive = Image::render(scene, &Options { width: Some(36), height: Some(28), sampling: Sampling::adaptive(4, 0.0), ..Options::default() }).unwrap();
+        let grid = Image::render(
+            scene,
+            &Options { width: Some(36), height: Some(28), sampling: Sampling::Grid(4), ..Options::default() },
+        )
+        .unwrap();
+        let adaptive = Image::render(
+            scene,
+            &Options { width: Some(36), height: Some(28), sampling: Sampling::adaptive(4, 0.0), ..Options::default() },
+        )
+        .unwrap();
         let same = grid.pixels.iter().zip(&adaptive.pixels).filter(|(a, b)| a == b).count();
         assert!(same > 36 * 28 * 9 / 10, "{same}");
         // Other AOVs ignore the sampling.
-        let id = |sampling| Image::render(scene, &Options { width: Some(20), height: Some(16), aov: Aov::Id, sampling, ..Options::default() }).unwrap();
+        let id = |sampling| {
+            Image::render(
+                scene,
+                &Options { width: Some(20), height: Some(16), aov: Aov::Id, sampling, ..Options::default() },
+            )
+            .unwrap()
+        };
         let (a, b) = (id(Sampling::Centre), id(Sampling::Grid(3)));
         assert_eq!((a.pixels, a.stats.primary), (b.pixels, b.stats.primary));
     }

@@ -81,10 +81,10 @@ pub mod dispatch;
 #[cfg(feature = "std")]
 pub mod image;
 
-#[cfg(feature = "std")]
-pub use image::{Image, Options};
 pub use fixed::Fixed;
 pub use fixed32::Fixed32;
+#[cfg(feature = "std")]
+pub use image::{Image, Options};
 pub use scalar::Scalar;
 
 /// The types most programs need.

@@ -71,8 +71,8 @@
 use crate::camera::{Camera, CameraError};
 use crate::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Quadric, Shape, Sphere};
 use crate::scalar::Scalar;
-use crate::similarity::Similarity;
 use crate::scene::{CapacityError, CapacityKind, Material, Scene, SceneError};
+use crate::similarity::Similarity;
 use crate::vec3::Vec3;
 
 /// A short copy of an offending piece of input (up to 24 bytes, cut at a
@@ -289,7 +289,8 @@ impl NffCamera {
         let e: Vec3<f32> = sim.point(eye);
         let at = e + dir;
         let c = |v: Vec3<f32>| Vec3::<S>::from_f32(v.x, v.y, v.z);
-        Camera::new(c(e), c(at), c(Vec3::new(self.up[0], self.up[1], self.up[2])), self.angle, width, height).map(|c| c.with_units(sim.units_per_unit()))
+        Camera::new(c(e), c(at), c(Vec3::new(self.up[0], self.up[1], self.up[2])), self.angle, width, height)
+            .map(|c| c.with_units(sim.units_per_unit()))
     }
 }
 
@@ -324,7 +325,14 @@ pub struct NffCounts {
 impl NffCounts {
     /// All primitives.
     pub fn primitives(&self) -> usize {
-        self.spheres + self.planes + self.polygons + self.patches + self.boxes + self.oriented_boxes + self.quadrics + self.cones
+        self.spheres
+            + self.planes
+            + self.polygons
+            + self.patches
+            + self.boxes
+            + self.oriented_boxes
+            + self.quadrics
+            + self.cones
     }
     /// The count of one capacity.
     pub fn of(&self, kind: CapacityKind) -> usize {
@@ -378,7 +386,11 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
     }
     fn polygon_room(&mut self, slots: u64) -> Result<(), SceneError> {
         if self.len() >= P {
-            return Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Primitives, capacity: P, needed: self.len() + 1 }));
+            return Err(SceneError::Capacity(CapacityError {
+                kind: CapacityKind::Primitives,
+                capacity: P,
+                needed: self.len() + 1,
+            }));
         }
         let needed = self.vertex_count() as u64 + slots;
         if needed > V as u64 {
@@ -585,7 +597,13 @@ fn numbers<const N: usize>(line: &Line, fields: &Fields, from: usize) -> Result<
 
 /// Checks that the line has `1 + n` fields (keyword and `n` values) for one
 /// of the allowed `n`.
-fn expect_fields(line: &Line, fields: &Fields, allowed: &[usize], what: &'static str, expected: &'static str) -> Result<usize, NffError> {
+fn expect_fields(
+    line: &Line,
+    fields: &Fields,
+    allowed: &[usize],
+    what: &'static str,
+    expected: &'static str,
+) -> Result<usize, NffError> {
     let found = fields.n - 1;
     if allowed.contains(&found) {
         return Ok(found);
@@ -644,7 +662,8 @@ const VIEW_KEYS: [&str; 6] = ["from", "at", "up", "angle", "hither", "resolution
 /// column of each line's keyword (in [`VIEW_KEYS`] order), so that a camera
 /// the numbers cannot make is reported where the offending numbers are.
 fn read_view(lines: &mut Lines, v_line: u32) -> Result<(NffCamera, [(u32, u32); 6]), NffError> {
-    let mut cam = NffCamera { from: [0.0; 3], at: [0.0; 3], up: [0.0; 3], angle: 0.0, hither: 0.0, width: 0, height: 0 };
+    let mut cam =
+        NffCamera { from: [0.0; 3], at: [0.0; 3], up: [0.0; 3], angle: 0.0, hither: 0.0, width: 0, height: 0 };
     let mut at_lines = [(v_line, 1u32); 6];
     for (slot, key) in at_lines.iter_mut().zip(VIEW_KEYS) {
         let line = lines.next_content().ok_or(NffError {
@@ -654,7 +673,10 @@ fn read_view(lines: &mut Lines, v_line: u32) -> Result<(NffCamera, [(u32, u32); 
         })?;
         let fields = line.fields();
         if fields.f[0].text != key {
-            return Err(line.error_at(fields.f[0].at, NffErrorKind::ViewOrder { expected: key, found: Token::new(fields.f[0].text) }));
+            return Err(line.error_at(
+                fields.f[0].at,
+                NffErrorKind::ViewOrder { expected: key, found: Token::new(fields.f[0].text) },
+            ));
         }
         *slot = (line.no, line.column(fields.f[0].at));
         match key {
@@ -681,7 +703,10 @@ fn read_view(lines: &mut Lines, v_line: u32) -> Result<(NffCamera, [(u32, u32); 
                 let mut wh = [0u32; 2];
                 for (k, slot) in wh.iter_mut().enumerate() {
                     let f = &fields.f[1 + k];
-                    let n: u32 = f.text.parse().map_err(|_| line.error_at(f.at, NffErrorKind::BadInteger(Token::new(f.text))))?;
+                    let n: u32 = f
+                        .text
+                        .parse()
+                        .map_err(|_| line.error_at(f.at, NffErrorKind::BadInteger(Token::new(f.text))))?;
                     if n == 0 || n > 65535 {
                         return Err(line.error_at(f.at, NffErrorKind::BadResolution));
                     }
@@ -715,7 +740,14 @@ fn vertex_count(line: &Line, f: &Field) -> Result<u32, NffError> {
     }
 }
 
-fn read_polygon<'a, S: Scalar, K: Sink<S>>(lines: &mut Lines<'a>, line: &Line<'a>, count: u32, patch: bool, material: u16, sink: &mut K) -> Result<(), NffError> {
+fn read_polygon<'a, S: Scalar, K: Sink<S>>(
+    lines: &mut Lines<'a>,
+    line: &Line<'a>,
+    count: u32,
+    patch: bool,
+    material: u16,
+    sink: &mut K,
+) -> Result<(), NffError> {
     let what = if patch { "`pp`" } else { "`p`" };
     let slots = count as u64 * if patch { 2 } else { 1 };
     sink.polygon_room(slots).map_err(|e| scene_error(line, what, e))?;
@@ -756,12 +788,10 @@ fn read_polygon<'a, S: Scalar, K: Sink<S>>(lines: &mut Lines<'a>, line: &Line<'a
         let mut again = start;
         for _ in 0..count {
             let (_, v) = continuation::<6>(&mut again, line.no, vwhat, vexp)?;
-            sink.push_vertex(v3::<S>(&v[3..]).normalize_or_zero())
-                .map_err(|e| scene_error(line, what, e))?;
+            sink.push_vertex(v3::<S>(&v[3..]).normalize_or_zero()).map_err(|e| scene_error(line, what, e))?;
         }
     }
-    sink.add_polygon_from_pool(first.unwrap_or(0), count, patch, material)
-        .map_err(|e| scene_error(line, what, e))
+    sink.add_polygon_from_pool(first.unwrap_or(0), count, patch, material).map_err(|e| scene_error(line, what, e))
 }
 
 /// Number of `l` lines (for the default light intensity).
@@ -837,12 +867,28 @@ fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffE
                 let m = if key.text == "f" {
                     expect_fields(&line, &fields, &[8], "`f`", "8 numbers (r g b Kd Ks Shine T ior)")?;
                     let [r, g, b, kd, ks, shine, t, ior] = numbers::<8>(&line, &fields, 1)?;
-                    Material::nff(v3(&[r, g, b]), S::from_f32(kd), S::from_f32(ks), S::from_f32(shine), S::from_f32(t), S::from_f32(ior))
+                    Material::nff(
+                        v3(&[r, g, b]),
+                        S::from_f32(kd),
+                        S::from_f32(ks),
+                        S::from_f32(shine),
+                        S::from_f32(t),
+                        S::from_f32(ior),
+                    )
                 } else {
                     expect_fields(&line, &fields, &[10], "`fx`", "10 numbers (r g b Ka Kd Ks Shine Kr Kt ior)")?;
                     let [r, g, b, ka, kd, ks, shine, kr, kt, ior] = numbers::<10>(&line, &fields, 1)?;
                     let f = S::from_f32;
-                    Material { color: v3(&[r, g, b]), ka: f(ka), kd: f(kd), ks: f(ks), shine: f(shine), kr: f(kr), kt: f(kt), ior: f(ior) }
+                    Material {
+                        color: v3(&[r, g, b]),
+                        ka: f(ka),
+                        kd: f(kd),
+                        ks: f(ks),
+                        shine: f(shine),
+                        kr: f(kr),
+                        kt: f(kt),
+                        ior: f(ior),
+                    }
                 };
                 // Opaque SPD materials say ior 0; it is unused without transmission.
                 let m = if m.kt == S::ZERO && !(m.ior > S::ZERO) { Material { ior: S::ONE, ..m } } else { m };
@@ -871,8 +917,10 @@ fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffE
                     let v = numbers::<8>(&line, &fields, 1)?;
                     ([v[0], v[1], v[2], v[3]], [v[4], v[5], v[6], v[7]])
                 } else {
-                    let (_, b) = continuation::<4>(&mut lines, line.no, "the `c` base line", "4 numbers (bx by bz br)")?;
-                    let (_, a) = continuation::<4>(&mut lines, line.no, "the `c` apex line", "4 numbers (ax ay az ar)")?;
+                    let (_, b) =
+                        continuation::<4>(&mut lines, line.no, "the `c` base line", "4 numbers (bx by bz br)")?;
+                    let (_, a) =
+                        continuation::<4>(&mut lines, line.no, "the `c` apex line", "4 numbers (ax ay az ar)")?;
                     (b, a)
                 };
                 let m = need_material("`c`")?;
@@ -883,7 +931,13 @@ fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffE
             "p" | "pp" => {
                 let patch = key.text == "pp";
                 let what = if patch { "`pp`" } else { "`p`" };
-                expect_fields(&line, &fields, &[1], what, "1 number (the vertex count), vertices on the following lines")?;
+                expect_fields(
+                    &line,
+                    &fields,
+                    &[1],
+                    what,
+                    "1 number (the vertex count), vertices on the following lines",
+                )?;
                 let count = vertex_count(&line, &fields.f[1])?;
                 let m = need_material(what)?;
                 read_polygon::<S, K>(&mut lines, &line, count, patch, m, sink)?;
@@ -916,12 +970,19 @@ fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffE
                 expect_fields(&line, &fields, &[12], "`obox`", "12 numbers (cx cy cz hx hy hz ux uy uz vx vy vz)")?;
                 let v = numbers::<12>(&line, &fields, 1)?;
                 let m = need_material("`obox`")?;
-                let b = geometry(&line, "`obox`", OrientedBox::new(v3(&v[..3]), v3(&v[3..6]), v3(&v[6..9]), v3(&v[9..])))?;
+                let b =
+                    geometry(&line, "`obox`", OrientedBox::new(v3(&v[..3]), v3(&v[3..6]), v3(&v[6..9]), v3(&v[9..])))?;
                 sink.add_shape(Shape::OrientedBox(b), m).map_err(|e| scene_error(&line, "`obox`", e))?;
                 info.counts.oriented_boxes += 1;
             }
             "q" => {
-                let n = expect_fields(&line, &fields, &[10, 16], "`q`", "10 numbers (A to J), or 16 with a clip box (x0 y0 z0 x1 y1 z1)")?;
+                let n = expect_fields(
+                    &line,
+                    &fields,
+                    &[10, 16],
+                    "`q`",
+                    "10 numbers (A to J), or 16 with a clip box (x0 y0 z0 x1 y1 z1)",
+                )?;
                 let k = numbers::<10>(&line, &fields, 1)?;
                 let m = need_material("`q`")?;
                 let mut q = geometry(&line, "`q`", Quadric::new(k.map(S::from_f32)))?;
@@ -1025,7 +1086,11 @@ mod tests {
         fails(&format!("{F}p three\n"), 2, "expected a whole number, found `three`");
         fails(&format!("{F}p 3.0\n"), 2, "expected a whole number, found `3.0`");
         fails(&format!("{CAMERA}").replace("resolution 32 24", "resolution 32 24.5"), 7, "whole number, found `24.5`");
-        fails(&format!("{CAMERA}").replace("resolution 32 24", "resolution 0 24"), 7, "resolution must be between 1 and 65535");
+        fails(
+            &format!("{CAMERA}").replace("resolution 32 24", "resolution 0 24"),
+            7,
+            "resolution must be between 1 and 65535",
+        );
     }
 
     #[test]
@@ -1045,9 +1110,17 @@ mod tests {
         fails(&format!("{F}p 2\n0 0 0\n1 0 0\n"), 2, "a polygon needs at least 3 vertices, got 2");
         fails(&format!("{F}pp 0\n"), 2, "at least 3 vertices, got 0");
         // Too few vertex lines before the end of the file.
-        fails(&format!("{F}p 4\n0 0 0\n1 0 0\n0 1 0\n"), 6, "file ends early: expected 3 numbers (x y z) for the entity on line 2");
+        fails(
+            &format!("{F}p 4\n0 0 0\n1 0 0\n0 1 0\n"),
+            6,
+            "file ends early: expected 3 numbers (x y z) for the entity on line 2",
+        );
         // A count larger than the vertex lines runs into the next entity.
-        fails(&format!("{F}p 4\n0 0 0\n1 0 0\n0 1 0\ns 0 0 0 1\n"), 6, "a `p` vertex line takes 3 numbers (x y z), found 5");
+        fails(
+            &format!("{F}p 4\n0 0 0\n1 0 0\n0 1 0\ns 0 0 0 1\n"),
+            6,
+            "a `p` vertex line takes 3 numbers (x y z), found 5",
+        );
     }
 
     #[test]
@@ -1089,18 +1162,36 @@ mod tests {
 
         let mut tiny: Scene<f32, 8, 6, 2, 2> = Scene::new();
         let e = parse(&format!("{F}{F}{F}"), &mut tiny).unwrap_err();
-        assert!(e.to_string().starts_with("line 3,") && e.to_string().contains("material capacity 2 exceeded (needs 3)"), "{e}");
+        assert!(
+            e.to_string().starts_with("line 3,") && e.to_string().contains("material capacity 2 exceeded (needs 3)"),
+            "{e}"
+        );
         let mut tiny: Scene<f32, 8, 6, 2, 2> = Scene::new();
         let e = parse("l 0 0 1\nl 0 0 2\nl 0 0 3\nl 0 0 4\n", &mut tiny).unwrap_err();
-        assert!(e.to_string().starts_with("line 3,") && e.to_string().contains("light capacity 2 exceeded (needs 4)"), "{e}");
+        assert!(
+            e.to_string().starts_with("line 3,") && e.to_string().contains("light capacity 2 exceeded (needs 4)"),
+            "{e}"
+        );
     }
 
     #[test]
     fn view_block_out_of_order() {
-        let e = fails("v\nat 0 0 0\nfrom 0 0 1\n", 2, "`v` block out of order: expected `from` (order: from, at, up, angle, hither, resolution), found `at`");
+        let e = fails(
+            "v\nat 0 0 0\nfrom 0 0 1\n",
+            2,
+            "`v` block out of order: expected `from` (order: from, at, up, angle, hither, resolution), found `at`",
+        );
         assert_eq!(e.column, 1);
-        fails(&CAMERA.replace("hither 0.01\nresolution 32 24", "resolution 32 24\nhither 0.01"), 6, "expected `hither`");
-        fails(&CAMERA.replace("angle 40\n", ""), 5, "expected `angle` (order: from, at, up, angle, hither, resolution), found `hither`");
+        fails(
+            &CAMERA.replace("hither 0.01\nresolution 32 24", "resolution 32 24\nhither 0.01"),
+            6,
+            "expected `hither`",
+        );
+        fails(
+            &CAMERA.replace("angle 40\n", ""),
+            5,
+            "expected `angle` (order: from, at, up, angle, hither, resolution), found `hither`",
+        );
         fails(&format!("{F}s 0 0 0 1\nup 0 0 1\n"), 3, "`up` outside a `v` block");
         fails("v\nfrom 0 0 1\nat 0 0 0\n", 4, "file ends early: expected up for the entity on line 1");
         fails(&format!("{CAMERA}{CAMERA}"), 8, "second `v` block (the first is on line 1)");
@@ -1179,9 +1270,33 @@ mod tests {
         assert_eq!(lights[1].color, Vec3::new(0.5, 0.45, 0.4));
 
         let mats = view.materials();
-        assert_eq!(mats[0], Material { color: Vec3::new(0.8, 0.8, 0.7), ka: 0.1, kd: 0.8, ks: 0.0, shine: 1.0, kr: 0.0, kt: 0.0, ior: 1.0 });
+        assert_eq!(
+            mats[0],
+            Material {
+                color: Vec3::new(0.8, 0.8, 0.7),
+                ka: 0.1,
+                kd: 0.8,
+                ks: 0.0,
+                shine: 1.0,
+                kr: 0.0,
+                kt: 0.0,
+                ior: 1.0
+            }
+        );
         // `f`: Ka = 0, Kr = Ks.
-        assert_eq!(mats[1], Material { color: Vec3::new(0.9, 0.2, 0.15), ka: 0.0, kd: 0.7, ks: 0.3, shine: 20.0, kr: 0.3, kt: 0.0, ior: 1.0 });
+        assert_eq!(
+            mats[1],
+            Material {
+                color: Vec3::new(0.9, 0.2, 0.15),
+                ka: 0.0,
+                kd: 0.7,
+                ks: 0.3,
+                shine: 20.0,
+                kr: 0.3,
+                kt: 0.0,
+                ior: 1.0
+            }
+        );
         assert_eq!(mats[4].ior, 1.0); // `ior 0` with T = 0
         assert_eq!((mats[5].kt, mats[5].ior), (0.85, 1.5));
 
@@ -1211,7 +1326,10 @@ mod tests {
         }
         match (p[3].shape, p[4].shape) {
             (Shape::Quadric(a), Shape::Quadric(b)) => {
-                assert_eq!(a.coefficients(), [4.0, 11.111111, 11.111111, 0.0, 0.0, 0.0, -9.6, -28.888889, -6.6666667, 24.537778]);
+                assert_eq!(
+                    a.coefficients(),
+                    [4.0, 11.111111, 11.111111, 0.0, 0.0, 0.0, -9.6, -28.888889, -6.6666667, 24.537778]
+                );
                 assert_eq!(a.clip_box(), None);
                 assert_eq!(b.coefficients(), [1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 2.0, -4.0, 0.0, 4.91]);
                 assert_eq!(b.clip_box(), Some((Vec3::new(-1.5, 1.5, 0.0), Vec3::new(-0.5, 2.5, 1.6))));
@@ -1233,7 +1351,10 @@ mod tests {
             (Shape::Polygon(a), Shape::Polygon(b)) => {
                 let pool = view.vertices();
                 assert_eq!(a.vertices(pool)[2], Vec3::new(4.0, 3.0, 3.0));
-                assert_eq!(b.vertices(pool), [Vec3::new(-3.6, 2.8, 0.3), Vec3::new(-2.4, 2.8, 0.3), Vec3::new(-3.0, 2.8, 1.5)]);
+                assert_eq!(
+                    b.vertices(pool),
+                    [Vec3::new(-3.6, 2.8, 0.3), Vec3::new(-2.4, 2.8, 0.3), Vec3::new(-3.0, 2.8, 1.5)]
+                );
                 assert_eq!(b.vertex_normals(pool)[2], Vec3::new(0.0, -1.0, 0.6).normalize_or_zero());
             }
             _ => unreachable!(),
@@ -1246,7 +1367,19 @@ mod tests {
         let mut out = String::new();
         let v = |a: Vec3<f32>| format!("{} {} {}", a.x, a.y, a.z);
         let b = view.background();
-        out += &format!("b {}\nv\nfrom {} {} {}\nat {} {} {}\nup {} {} {}\n", v(b), cam.from[0], cam.from[1], cam.from[2], cam.at[0], cam.at[1], cam.at[2], cam.up[0], cam.up[1], cam.up[2]);
+        out += &format!(
+            "b {}\nv\nfrom {} {} {}\nat {} {} {}\nup {} {} {}\n",
+            v(b),
+            cam.from[0],
+            cam.from[1],
+            cam.from[2],
+            cam.at[0],
+            cam.at[1],
+            cam.at[2],
+            cam.up[0],
+            cam.up[1],
+            cam.up[2]
+        );
         out += &format!("angle {}\nhither {}\nresolution {} {}\n", cam.angle, cam.hither, cam.width, cam.height);
         for l in view.lights() {
             out += &format!("l {} {}\n", v(l.position), v(l.color));
@@ -1314,7 +1447,10 @@ mod tests {
             // vectors again: equal to the last bits or within an ulp.
             match (p.shape, q.shape) {
                 (Shape::Plane(x), Shape::Plane(y)) => {
-                    assert!((x.normal_vector() - y.normal_vector()).length() <= 1e-7 && (x.offset() - y.offset()).abs() <= 1e-7);
+                    assert!(
+                        (x.normal_vector() - y.normal_vector()).length() <= 1e-7
+                            && (x.offset() - y.offset()).abs() <= 1e-7
+                    );
                 }
                 (Shape::OrientedBox(x), Shape::OrientedBox(y)) => {
                     let ((u0, v0, w0), (u1, v1, w1)) = (x.axes(), y.axes());

@@ -294,7 +294,8 @@ impl ImageChecksums {
     /// every field but the packet counts, so renders at different packet
     /// widths compare equal when they agree.
     pub fn same_render(&self, other: &ImageChecksums) -> bool {
-        (self.rgb888, self.rgb565, self.pixels, self.rays.rays()) == (other.rgb888, other.rgb565, other.pixels, other.rays.rays())
+        (self.rgb888, self.rgb565, self.pixels, self.rays.rays())
+            == (other.rgb888, other.rgb565, other.pixels, other.rays.rays())
     }
 }
 
@@ -395,7 +396,10 @@ mod tests {
         for y in 0..4 {
             for x in 0..4 {
                 let m = 4 * BAYER4[y][x];
-                assert_eq!([BAYER8[y][x], BAYER8[y][x + 4], BAYER8[y + 4][x], BAYER8[y + 4][x + 4]], [m, m + 2, m + 3, m + 1]);
+                assert_eq!(
+                    [BAYER8[y][x], BAYER8[y][x + 4], BAYER8[y + 4][x], BAYER8[y + 4][x + 4]],
+                    [m, m + 2, m + 3, m + 1]
+                );
             }
         }
     }
@@ -505,10 +509,16 @@ mod tests {
             let mut full = vec![[0u8; 3]; 37 * 19];
             renderer.render_rect::<1>(camera.full_rect(), &mut full, &mut RayStats::default()).unwrap();
             let mut plain = vec![[0u8; 3]; 37 * 19];
-            Renderer::new(tracer, camera).render_rect::<1>(camera.full_rect(), &mut plain, &mut RayStats::default()).unwrap();
+            Renderer::new(tracer, camera)
+                .render_rect::<1>(camera.full_rect(), &mut plain, &mut RayStats::default())
+                .unwrap();
             assert_ne!(full, plain, "{sampling:?} changed nothing");
             let one = renderer.checksums::<1>(&mut band_of(37 * 3)).unwrap();
-            for c in [renderer.checksums::<4>(&mut band_of(37 * 2)).unwrap(), renderer.checksums::<8>(&mut band_of(37 * 5)).unwrap(), renderer.checksums::<16>(&mut band_of(37 * 19)).unwrap()] {
+            for c in [
+                renderer.checksums::<4>(&mut band_of(37 * 2)).unwrap(),
+                renderer.checksums::<8>(&mut band_of(37 * 5)).unwrap(),
+                renderer.checksums::<16>(&mut band_of(37 * 19)).unwrap(),
+            ] {
                 assert_eq!((c.rgb888, c.rgb565), (one.rgb888, one.rgb565), "{sampling:?}");
             }
             let mut h = Fnv1a::new();

@@ -61,7 +61,15 @@
 /// 0.12583728). Evaluated by Horner in `f32`, `u·P(u)` is within 2.4 ulp
 /// (relative) of `log₂(1 + u)`.
 const LOG2_POLY: [u32; 9] = [
-    0x3fb8_aa3b, 0xbf38_aa38, 0x3ef6_39eb, 0xbeb8_ae27, 0x3e93_69c2, 0xbe74_adf2, 0x3e5c_e48b, 0xbe54_3e8e, 0x3e00_db7d,
+    0x3fb8_aa3b,
+    0xbf38_aa38,
+    0x3ef6_39eb,
+    0xbeb8_ae27,
+    0x3e93_69c2,
+    0xbe74_adf2,
+    0x3e5c_e48b,
+    0xbe54_3e8e,
+    0x3e00_db7d,
 ];
 
 /// `(2^f − 1)/f` on `f ∈ [−½, ½]`, degree 5, constant term first, as `f32`
@@ -113,9 +121,9 @@ fn log2_positive(x: f32) -> f32 {
     // Subnormals: scale into the normal range (exact) and remember it.
     let sub = mask(x < f32::MIN_POSITIVE);
     let xs = select(sub, x * 8_388_608.0, x); // × 2²³
-    // x = 2^k·m with m ∈ [√½, √2): subtracting √½'s bits makes the exponent
-    // field of the difference k; the mantissa bits then re-attach to √½'s
-    // exponent.
+                                              // x = 2^k·m with m ∈ [√½, √2): subtracting √½'s bits makes the exponent
+                                              // field of the difference k; the mantissa bits then re-attach to √½'s
+                                              // exponent.
     let ix = xs.to_bits().wrapping_sub(SQRT_HALF_BITS);
     let k = ((ix as i32) >> 23) - (sub & 23) as i32;
     let m = f32::from_bits((ix & 0x007f_ffff).wrapping_add(SQRT_HALF_BITS));
@@ -129,8 +137,8 @@ fn log2_positive(x: f32) -> f32 {
 #[inline(always)]
 fn exp2_nonpositive(z: f32) -> f32 {
     let z = select(mask(z > Z_MIN), z, Z_MIN); // NaN also becomes Z_MIN
-    // n = round(z) in the low bits of t; n_f = n exactly; f = z − n ∈ [−½, ½]
-    // exactly (z and n are within ½ of each other).
+                                               // n = round(z) in the low bits of t; n_f = n exactly; f = z − n ∈ [−½, ½]
+                                               // exactly (z and n are within ½ of each other).
     let t = z + ROUND_MAGIC;
     let n_f = t - ROUND_MAGIC;
     let f = z - n_f;
@@ -163,7 +171,17 @@ mod tests {
 
     #[test]
     fn coefficients_are_the_documented_values() {
-        let log2 = [1.442695f32, -0.72134733, 0.48091063, -0.36070368, 0.28791624, -0.2389448, 0.21571557, -0.20726988, 0.12583728];
+        let log2 = [
+            1.442695f32,
+            -0.72134733,
+            0.48091063,
+            -0.36070368,
+            0.28791624,
+            -0.2389448,
+            0.21571557,
+            -0.20726988,
+            0.12583728,
+        ];
         for (b, v) in LOG2_POLY.iter().zip(log2) {
             assert_eq!(*b, v.to_bits());
         }

@@ -147,7 +147,8 @@ pub fn intermediate_bound<S: Scalar>(shape: &Shape<S>, r: f32) -> f32 {
             // By norms: with the symmetric matrix M of A..F (Frobenius norm
             // ‖M‖ ≥ its spectral norm) and g = (G, H, I)/2, b = 2(Mo + g)·d,
             // a = dᵀMd, c = oᵀMo + 2g·o + J, and |o| ≤ √3·R.
-            let m = libm::sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + 0.5 * (c[3] * c[3] + c[4] * c[4] + c[5] * c[5]));
+            let m =
+                libm::sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + 0.5 * (c[3] * c[3] + c[4] * c[4] + c[5] * c[5]));
             let g = 0.5 * libm::sqrtf(c[6] * c[6] + c[7] * c[7] + c[8] * c[8]);
             let o = libm::sqrtf(3.0) * r;
             let by_norms = disc_bound(m, 2.0 * (m * o + g), m * o * o + 2.0 * g * o + c[9]);
@@ -204,7 +205,10 @@ mod tests {
         let near = Shape::Sphere(Sphere::new(v::<Fixed>(4000.0, 0.0, 0.0), Fixed::from_f32(90.0)).unwrap());
         let far = Shape::Sphere(Sphere::new(v::<Fixed>(4000.0, 0.0, 0.0), Fixed::from_f32(100.0)).unwrap());
         assert_eq!(check_shape(&near, &[], 0), Ok(()));
-        assert_eq!(check_shape(&far, &[], 7), Err(RangeError { item: RangeItem::Primitive(7), magnitude: 4100, limit: 4096 }));
+        assert_eq!(
+            check_shape(&far, &[], 7),
+            Err(RangeError { item: RangeItem::Primitive(7), magnitude: 4100, limit: 4096 })
+        );
     }
 
     #[test]
@@ -217,9 +221,12 @@ mod tests {
         assert_eq!(e.item, RangeItem::Intermediate(0));
         assert!(e.magnitude > e.limit);
         // Cones: a steep slope scales the intermediates by k⁴.
-        let gentle = Shape::Cone(Cone::new(v::<Fixed>(0.0, 0.0, 0.0), Fixed::ONE, v(0.0, 0.0, 1.0), Fixed::HALF).unwrap());
+        let gentle =
+            Shape::Cone(Cone::new(v::<Fixed>(0.0, 0.0, 0.0), Fixed::ONE, v(0.0, 0.0, 1.0), Fixed::HALF).unwrap());
         assert_eq!(check_intermediates(&gentle, 10.0, 0), Ok(()));
-        let steep = Shape::Cone(Cone::new(v::<Fixed>(0.0, 0.0, 0.0), Fixed::from_f32(1000.0), v(0.0, 0.0, 0.01), Fixed::ZERO).unwrap());
+        let steep = Shape::Cone(
+            Cone::new(v::<Fixed>(0.0, 0.0, 0.0), Fixed::from_f32(1000.0), v(0.0, 0.0, 0.01), Fixed::ZERO).unwrap(),
+        );
         assert_eq!(check_intermediates(&steep, 10.0, 1).unwrap_err().item, RangeItem::Intermediate(1));
         // f32 has no limit.
         let q = Shape::Quadric(Quadric::ellipsoid(v::<f32>(0.0, 0.0, 0.0), v(0.3, 0.3, 0.3)).unwrap());

@@ -31,13 +31,7 @@ impl<S: Scalar, const W: usize> RayPacket<S, W> {
         let (d, ok) = dir.normalize();
         let ok = ok & origin.x.finite() & origin.y.finite() & origin.z.finite();
         let zero = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
-        (
-            RayPacket {
-                origin: Vec3xW::select(ok, origin, zero),
-                dir: d,
-            },
-            ok,
-        )
+        (RayPacket { origin: Vec3xW::select(ok, origin, zero), dir: d }, ok)
     }
 
     /// The ray of lane `i`.
@@ -45,10 +39,7 @@ impl<S: Scalar, const W: usize> RayPacket<S, W> {
     pub fn lane(&self, i: usize) -> Ray<S> {
         let o = self.origin.lane(i);
         let d = self.dir.lane(i);
-        RayPacket {
-            origin: o.splat(),
-            dir: d.splat(),
-        }
+        RayPacket { origin: o.splat(), dir: d.splat() }
     }
 
     /// The points at distance `t` along each ray.
@@ -92,12 +83,7 @@ impl<S: Scalar, const W: usize> Roots<S, W> {
     /// No crossing in any lane.
     #[inline(always)]
     pub fn none() -> Self {
-        Roots {
-            t0: Lanes::splat(S::MAX),
-            t1: Lanes::splat(S::MAX),
-            hit0: Mask::splat(false),
-            hit1: Mask::splat(false),
-        }
+        Roots { t0: Lanes::splat(S::MAX), t1: Lanes::splat(S::MAX), hit0: Mask::splat(false), hit1: Mask::splat(false) }
     }
 
     /// Builds the result from two candidate roots (in any order) and the
@@ -133,7 +119,13 @@ impl<S: Scalar, const W: usize> Roots<S, W> {
     /// wherever `ok` is set), both existing where `ok` is set: cheaper than
     /// [`Roots::from_candidates`] because nothing needs swapping.
     #[inline(always)]
-    pub fn from_ordered(near: Lanes<S, W>, far: Lanes<S, W>, ok: Mask<W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>) -> Self {
+    pub fn from_ordered(
+        near: Lanes<S, W>,
+        far: Lanes<S, W>,
+        ok: Mask<W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+    ) -> Self {
         let near_in = ok & near.gt(t_min) & near.lt(t_max);
         let far_in = ok & far.gt(t_min) & far.lt(t_max);
         // The first crossing is the near root if it is in the interval, else the far one.

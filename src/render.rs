@@ -99,7 +99,13 @@ impl Sampling {
     /// clamped to 0..=765 (NaN gives 0).
     pub fn adaptive(n: u8, t: f32) -> Sampling {
         let v = t * 255.0 + 0.5;
-        let threshold = if v >= 765.0 { 765 } else if v >= 0.0 { v as u16 } else { 0 };
+        let threshold = if v >= 765.0 {
+            765
+        } else if v >= 0.0 {
+            v as u16
+        } else {
+            0
+        };
         Sampling::Adaptive { n, threshold }
     }
 
@@ -171,7 +177,9 @@ fn put<const W: usize>(x0: u32, y0: u32, frame: Rect, out: &mut [Rgb8], px: &[Rg
         let pw = pw as usize;
         for r in 0..ph as usize {
             let at = (y + r).saturating_mul(frame.w as usize).saturating_add(x);
-            let (Some(d), Some(row)) = (out.get_mut(at..at.saturating_add(pw)), px.get(r * pw..(r + 1) * pw)) else { continue };
+            let (Some(d), Some(row)) = (out.get_mut(at..at.saturating_add(pw)), px.get(r * pw..(r + 1) * pw)) else {
+                continue;
+            };
             for (d, p) in d.iter_mut().zip(row) {
                 *d = *p;
             }
@@ -211,7 +219,12 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// [`Renderer::sampling`]. Ray counts are added to `stats` (every camera
     /// ray, subsamples included, counts as primary).
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    pub fn render_rect<const W: usize>(&self, rect: Rect, out: &mut [Rgb8], stats: &mut RayStats) -> Result<(), BufferTooSmall> {
+    pub fn render_rect<const W: usize>(
+        &self,
+        rect: Rect,
+        out: &mut [Rgb8],
+        stats: &mut RayStats,
+    ) -> Result<(), BufferTooSmall> {
         // Saturating (a 32-bit usize can overflow): an impossible size is
         // simply larger than any buffer.
         let needed = (rect.w as usize).saturating_mul(rect.h as usize);
@@ -223,19 +236,39 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
             // The closures are inlined like the functions around them: under
             // a dispatched instruction set an out-of-line closure would be
             // compiled for the baseline only (scripts/check-asm.sh checks).
-            Sampling::Centre => self.packets::<W>(rect, rect, out, #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))] |x, y| {
-                let (ray, active) = self.camera.packet::<W>(x, y, rect);
-                (self.shade_packet(&ray, active, stats), active)
-            }),
+            Sampling::Centre => self.packets::<W>(
+                rect,
+                rect,
+                out,
+                #[cfg_attr(
+                    all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")),
+                    inline(always)
+                )]
+                |x, y| {
+                    let (ray, active) = self.camera.packet::<W>(x, y, rect);
+                    (self.shade_packet(&ray, active, stats), active)
+                },
+            ),
             Sampling::Grid(_) => {
                 let n = sampling.grid();
-                self.packets::<W>(rect, rect, out, #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))] |x, y| {
-                    let all = Mask::splat(true);
-                    let (c, active) = self.supersample::<W>(x, y, rect, n, all, stats);
-                    (c, active)
-                })
+                self.packets::<W>(
+                    rect,
+                    rect,
+                    out,
+                    #[cfg_attr(
+                        all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")),
+                        inline(always)
+                    )]
+                    |x, y| {
+                        let all = Mask::splat(true);
+                        let (c, active) = self.supersample::<W>(x, y, rect, n, all, stats);
+                        (c, active)
+                    },
+                )
             }
-            Sampling::Adaptive { threshold, .. } => self.adaptive_rect::<W>(rect, out, sampling.grid(), threshold, stats),
+            Sampling::Adaptive { threshold, .. } => {
+                self.adaptive_rect::<W>(rect, out, sampling.grid(), threshold, stats)
+            }
         }
         Ok(())
     }
@@ -250,7 +283,13 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// traverse the same part of the tree) even in a wide band; each
     /// packet is independent, so the order changes no byte.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    fn packets<const W: usize>(&self, area: Rect, frame: Rect, out: &mut [Rgb8], mut shade: impl FnMut(u32, u32) -> ([Rgb8; W], Mask<W>)) {
+    fn packets<const W: usize>(
+        &self,
+        area: Rect,
+        frame: Rect,
+        out: &mut [Rgb8],
+        mut shade: impl FnMut(u32, u32) -> ([Rgb8; W], Mask<W>),
+    ) {
         let (pw, ph) = packet_shape(W);
         let mut cx = 0;
         while cx < area.w {
@@ -274,7 +313,15 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// box-filtered mean of an `n × n` grid of subsamples, tracing only the
     /// lanes in `want`; returns them and the lanes traced.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    fn supersample<const W: usize>(&self, x: u32, y: u32, clip: Rect, n: u32, want: Mask<W>, stats: &mut RayStats) -> ([Rgb8; W], Mask<W>) {
+    fn supersample<const W: usize>(
+        &self,
+        x: u32,
+        y: u32,
+        clip: Rect,
+        n: u32,
+        want: Mask<W>,
+        stats: &mut RayStats,
+    ) -> ([Rgb8; W], Mask<W>) {
         let weight = Lanes::splat(S::ONE / S::from_i32((n * n) as i32));
         let zero = Lanes::<S, W>::zero();
         let (mut r, mut g, mut b) = (zero, zero, zero);
@@ -308,7 +355,14 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// [`Sampling::Adaptive`] over `rect`, block by block (see
     /// [`ADAPTIVE_BLOCK`]).
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    fn adaptive_rect<const W: usize>(&self, rect: Rect, out: &mut [Rgb8], n: u32, threshold: u16, stats: &mut RayStats) {
+    fn adaptive_rect<const W: usize>(
+        &self,
+        rect: Rect,
+        out: &mut [Rgb8],
+        n: u32,
+        threshold: u16,
+        stats: &mut RayStats,
+    ) {
         const SIDE: usize = ADAPTIVE_BLOCK as usize + 2;
         let (width, height) = (self.camera.width(), self.camera.height());
         // Clipped to the image, as every renderer clips.
@@ -324,42 +378,70 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 // whatever `rect` is, a pixel's neighbours are traced.
                 let ex = block.x.saturating_sub(1);
                 let ey = block.y.saturating_sub(1);
-                let ring = Rect { x: ex, y: ey, w: (block.x + block.w + 1).min(width) - ex, h: (block.y + block.h + 1).min(height) - ey };
-                self.packets::<W>(ring, ring, &mut centre, #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))] |x, y| {
-                    let (ray, active) = self.camera.packet::<W>(x, y, ring);
-                    (self.shade_packet(&ray, active, stats), active)
-                });
-                let at = |x: u32, y: u32| centre.get((y - ring.y) as usize * ring.w as usize + (x - ring.x) as usize).copied().unwrap_or([0; 3]);
+                let ring = Rect {
+                    x: ex,
+                    y: ey,
+                    w: (block.x + block.w + 1).min(width) - ex,
+                    h: (block.y + block.h + 1).min(height) - ey,
+                };
+                self.packets::<W>(
+                    ring,
+                    ring,
+                    &mut centre,
+                    #[cfg_attr(
+                        all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")),
+                        inline(always)
+                    )]
+                    |x, y| {
+                        let (ray, active) = self.camera.packet::<W>(x, y, ring);
+                        (self.shade_packet(&ray, active, stats), active)
+                    },
+                );
+                let at = |x: u32, y: u32| {
+                    centre
+                        .get((y - ring.y) as usize * ring.w as usize + (x - ring.x) as usize)
+                        .copied()
+                        .unwrap_or([0; 3])
+                };
                 let differs = |a: Rgb8, b: Rgb8| (0..3).map(|k| a[k].abs_diff(b[k]) as u16).sum::<u16>() > threshold;
                 let (pw, _) = packet_shape(W);
-                self.packets::<W>(block, rect, out, #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))] |x, y| {
-                    let mut inside = Mask::<W>::splat(false);
-                    let mut marked = Mask::<W>::splat(false);
-                    let mut px = [[0u8; 3]; W];
-                    for (l, p) in px.iter_mut().enumerate() {
-                        let (i, j) = (x.saturating_add(l as u32 % pw), y.saturating_add(l as u32 / pw));
-                        if i < block.x || i - block.x >= block.w || j < block.y || j - block.y >= block.h {
-                            continue;
-                        }
-                        inside.set(l, true);
-                        let c = at(i, j);
-                        *p = c;
-                        let left = i > 0 && differs(c, at(i - 1, j));
-                        let right = i + 1 < width && differs(c, at(i + 1, j));
-                        let up = j > 0 && differs(c, at(i, j - 1));
-                        let down = j + 1 < height && differs(c, at(i, j + 1));
-                        marked.set(l, left || right || up || down);
-                    }
-                    if marked.any() {
-                        let (fine, traced) = self.supersample::<W>(x, y, block, n, marked, stats);
+                self.packets::<W>(
+                    block,
+                    rect,
+                    out,
+                    #[cfg_attr(
+                        all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")),
+                        inline(always)
+                    )]
+                    |x, y| {
+                        let mut inside = Mask::<W>::splat(false);
+                        let mut marked = Mask::<W>::splat(false);
+                        let mut px = [[0u8; 3]; W];
                         for (l, p) in px.iter_mut().enumerate() {
-                            if traced.get(l) {
-                                *p = fine[l];
+                            let (i, j) = (x.saturating_add(l as u32 % pw), y.saturating_add(l as u32 / pw));
+                            if i < block.x || i - block.x >= block.w || j < block.y || j - block.y >= block.h {
+                                continue;
+                            }
+                            inside.set(l, true);
+                            let c = at(i, j);
+                            *p = c;
+                            let left = i > 0 && differs(c, at(i - 1, j));
+                            let right = i + 1 < width && differs(c, at(i + 1, j));
+                            let up = j > 0 && differs(c, at(i, j - 1));
+                            let down = j + 1 < height && differs(c, at(i, j + 1));
+                            marked.set(l, left || right || up || down);
+                        }
+                        if marked.any() {
+                            let (fine, traced) = self.supersample::<W>(x, y, block, n, marked, stats);
+                            for (l, p) in px.iter_mut().enumerate() {
+                                if traced.get(l) {
+                                    *p = fine[l];
+                                }
                             }
                         }
-                    }
-                    (px, inside)
-                });
+                        (px, inside)
+                    },
+                );
                 x0 += block.w;
             }
             y0 += ADAPTIVE_BLOCK.min(y_end - y0);
@@ -368,7 +450,12 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
 
     /// The pixels of one packet of primary rays.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    fn shade_packet<const W: usize>(&self, ray: &crate::ray::RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> [Rgb8; W] {
+    fn shade_packet<const W: usize>(
+        &self,
+        ray: &crate::ray::RayPacket<S, W>,
+        active: Mask<W>,
+        stats: &mut RayStats,
+    ) -> [Rgb8; W] {
         let mut px = [[0u8; 3]; W];
         match self.aov {
             Aov::Color => {
@@ -403,7 +490,11 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     _ => {
                         let n = self.tracer.surface(ray, &hit).shading;
                         let half = Lanes::splat(S::HALF);
-                        let (x, y, z) = ((n.x * half + half).to_unorm8(), (n.y * half + half).to_unorm8(), (n.z * half + half).to_unorm8());
+                        let (x, y, z) = (
+                            (n.x * half + half).to_unorm8(),
+                            (n.y * half + half).to_unorm8(),
+                            (n.z * half + half).to_unorm8(),
+                        );
                         for (l, p) in px.iter_mut().enumerate() {
                             *p = if hit.mask.get(l) { [x[l], y[l], z[l]] } else { [0, 0, 0] };
                         }

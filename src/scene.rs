@@ -41,31 +41,13 @@ pub struct Material<S> {
 impl<S: Scalar> Material<S> {
     /// A plain diffuse material of the given colour.
     pub fn diffuse(color: Vec3<S>) -> Self {
-        Material {
-            color,
-            ka: S::ZERO,
-            kd: S::ONE,
-            ks: S::ZERO,
-            shine: S::ONE,
-            kr: S::ZERO,
-            kt: S::ZERO,
-            ior: S::ONE,
-        }
+        Material { color, ka: S::ZERO, kd: S::ONE, ks: S::ZERO, shine: S::ONE, kr: S::ZERO, kt: S::ZERO, ior: S::ONE }
     }
 
     /// The NFF `f` material: `Ka = 0`, and `Ks` is both the highlight and the
     /// mirror weight.
     pub fn nff(color: Vec3<S>, kd: S, ks: S, shine: S, kt: S, ior: S) -> Self {
-        Material {
-            color,
-            ka: S::ZERO,
-            kd,
-            ks,
-            shine,
-            kr: ks,
-            kt,
-            ior,
-        }
+        Material { color, ka: S::ZERO, kd, ks, shine, kr: ks, kt, ior }
     }
 
     /// Checks that every number is finite, the exponent is non-negative and
@@ -239,9 +221,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         if id > u16::MAX as usize {
             return Err(full(CapacityKind::Materials, u16::MAX as usize + 1, id.saturating_add(1)));
         }
-        self.materials
-            .push(m)
-            .map_err(|_| full(CapacityKind::Materials, M, id.saturating_add(1)))?;
+        self.materials.push(m).map_err(|_| full(CapacityKind::Materials, M, id.saturating_add(1)))?;
         Ok(id as u16)
     }
 
@@ -252,9 +232,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         }
         let n = self.lights.len();
         range::check_point(position, RangeItem::Light(n as u32))?;
-        self.lights
-            .push(Light { position, color })
-            .map_err(|_| full(CapacityKind::Lights, L, n.saturating_add(1)))
+        self.lights.push(Light { position, color }).map_err(|_| full(CapacityKind::Lights, L, n.saturating_add(1)))
     }
 
     /// Adds a primitive with material `material` and returns its index
@@ -289,7 +267,14 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         self.add_shape(Shape::AaBox(AaBox::new(a, b)?), material)
     }
     /// Adds an oriented box.
-    pub fn add_oriented_box(&mut self, center: Vec3<S>, half: Vec3<S>, u: Vec3<S>, v: Vec3<S>, material: u16) -> Result<u32, SceneError> {
+    pub fn add_oriented_box(
+        &mut self,
+        center: Vec3<S>,
+        half: Vec3<S>,
+        u: Vec3<S>,
+        v: Vec3<S>,
+        material: u16,
+    ) -> Result<u32, SceneError> {
         self.add_shape(Shape::OrientedBox(OrientedBox::new(center, half, u, v)?), material)
     }
     /// Adds a quadric (see [`Quadric`] for the named constructors).
@@ -297,7 +282,14 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         self.add_shape(Shape::Quadric(q), material)
     }
     /// Adds a finite open cone or cylinder.
-    pub fn add_cone(&mut self, base: Vec3<S>, base_radius: S, apex: Vec3<S>, apex_radius: S, material: u16) -> Result<u32, SceneError> {
+    pub fn add_cone(
+        &mut self,
+        base: Vec3<S>,
+        base_radius: S,
+        apex: Vec3<S>,
+        apex_radius: S,
+        material: u16,
+    ) -> Result<u32, SceneError> {
         self.add_shape(Shape::Cone(Cone::new(base, base_radius, apex, apex_radius)?), material)
     }
 
@@ -306,9 +298,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
     /// without a buffer of its own.
     pub fn push_vertex(&mut self, v: Vec3<S>) -> Result<u32, SceneError> {
         let n = self.verts.len();
-        self.verts
-            .push(v)
-            .map_err(|_| full(CapacityKind::Vertices, V, n.saturating_add(1)))?;
+        self.verts.push(v).map_err(|_| full(CapacityKind::Vertices, V, n.saturating_add(1)))?;
         Ok(n as u32)
     }
 
@@ -320,7 +310,13 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
     /// Adds a polygon over the last pushed vertices `first .. first + count`
     /// (a patch: `count` positions followed by `count` unit normals).
     /// On error the vertices from `first` on are removed again.
-    pub fn add_polygon_from_pool(&mut self, first: u32, count: u32, patch: bool, material: u16) -> Result<u32, SceneError> {
+    pub fn add_polygon_from_pool(
+        &mut self,
+        first: u32,
+        count: u32,
+        patch: bool,
+        material: u16,
+    ) -> Result<u32, SceneError> {
         let result = Polygon::from_pool(&self.verts, first, count, patch)
             .map_err(SceneError::from)
             .and_then(|p| self.add_shape(Shape::Polygon(p), material));
@@ -397,7 +393,16 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             let f = |v: S0| S::from_f32(v.to_f32());
             let [r, g, b] = m.color.to_f32();
             let color = Vec3::from_f32(r, g, b);
-            self.add_material(Material { color, ka: f(m.ka), kd: f(m.kd), ks: f(m.ks), shine: f(m.shine), kr: f(m.kr), kt: f(m.kt), ior: f(m.ior) })?;
+            self.add_material(Material {
+                color,
+                ka: f(m.ka),
+                kd: f(m.kd),
+                ks: f(m.ks),
+                shine: f(m.shine),
+                kr: f(m.kr),
+                kt: f(m.kt),
+                ior: f(m.ior),
+            })?;
         }
         // The pool in order: positions by `sim`, then each patch's normals
         // (the second half of its slots) as directions.
@@ -410,7 +415,9 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
                 if pg.is_patch() {
                     let (first, count) = (pg.first_vertex() as usize, pg.vertex_count() as usize);
                     for i in first.saturating_add(count)..first.saturating_add(2 * count) {
-                        if let (Some(n), Some(slot)) = (src.vertices().get(i), self.verts.get_mut(first_vertex.saturating_add(i))) {
+                        if let (Some(n), Some(slot)) =
+                            (src.vertices().get(i), self.verts.get_mut(first_vertex.saturating_add(i)))
+                        {
                             *slot = sim.direction(*n);
                         }
                     }
@@ -419,10 +426,13 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         }
         for p in src.primitives() {
             let shape = match p.shape.similar::<S>(sim) {
-                Shape::Polygon(pg) => Shape::Polygon(pg.at_first(pg.first_vertex().saturating_add(first_vertex as u32))),
+                Shape::Polygon(pg) => {
+                    Shape::Polygon(pg.at_first(pg.first_vertex().saturating_add(first_vertex as u32)))
+                }
                 other => other,
             };
-            let material = u16::try_from(p.material as usize + first_material).map_err(|_| SceneError::UnknownMaterial(p.material))?;
+            let material = u16::try_from(p.material as usize + first_material)
+                .map_err(|_| SceneError::UnknownMaterial(p.material))?;
             self.add_shape(shape, material)?;
         }
         for l in src.lights() {
@@ -706,7 +716,10 @@ mod tests {
             _ => panic!(),
         }
         // Positions move, the patch's normals do not.
-        assert_eq!(&v.vertices()[..3], &[Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(-1.0, 2.0, 0.0)]);
+        assert_eq!(
+            &v.vertices()[..3],
+            &[Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(-1.0, 2.0, 0.0)]
+        );
         assert_eq!(&v.vertices()[3..], &s.view().vertices()[3..]);
         assert_eq!(v.lights()[0].position, Vec3::new(-1.0, 0.0, 10.0));
     }

@@ -46,11 +46,7 @@ pub struct TraceSettings<S> {
 
 impl<S: Scalar> Default for TraceSettings<S> {
     fn default() -> Self {
-        TraceSettings {
-            mode: Mode::Whitted,
-            max_depth: 5,
-            min_weight: S::MIN_WEIGHT,
-        }
+        TraceSettings { mode: Mode::Whitted, max_depth: 5, min_weight: S::MIN_WEIGHT }
     }
 }
 
@@ -84,10 +80,7 @@ pub struct RayStats {
 impl RayStats {
     /// All rays (saturating: the counters never panic).
     pub fn total(&self) -> u64 {
-        self.primary
-            .saturating_add(self.shadow)
-            .saturating_add(self.reflected)
-            .saturating_add(self.refracted)
+        self.primary.saturating_add(self.shadow).saturating_add(self.reflected).saturating_add(self.refracted)
     }
     /// Rays by kind: primary, shadow, reflected, refracted. The same for
     /// every packet width.
@@ -152,7 +145,9 @@ pub enum TraceError {
 impl core::fmt::Display for TraceError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            TraceError::Depth { requested, supported } => write!(f, "depth {requested} not supported (1 to {supported})"),
+            TraceError::Depth { requested, supported } => {
+                write!(f, "depth {requested} not supported (1 to {supported})")
+            }
             TraceError::Accelerator(m) => m.fmt(f),
         }
     }
@@ -214,10 +209,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// is 0 or exceeds `D`, or if `accel` was built for another scene.
     pub fn with_accelerator(scene: SceneView<'a, S>, accel: A, settings: TraceSettings<S>) -> Result<Self, TraceError> {
         if settings.max_depth == 0 || settings.max_depth as usize > D {
-            return Err(TraceError::Depth {
-                requested: settings.max_depth,
-                supported: D as u32,
-            });
+            return Err(TraceError::Depth { requested: settings.max_depth, supported: D as u32 });
         }
         accel.check(&scene).map_err(TraceError::Accelerator)?;
         Ok(Tracer { scene, accel, settings })
@@ -241,7 +233,13 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// The nearest hit of each active ray in `(t_min, t_max)` (see
     /// [`Accelerator::closest_hit`]).
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    pub fn closest_hit<const W: usize>(&self, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Hit<S, W> {
+    pub fn closest_hit<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Hit<S, W> {
         self.accel.closest_hit(&self.scene, ray, t_min, t_max, active)
     }
     /// The settings.
@@ -263,7 +261,11 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// share it. A lane goes through exactly the operations the one-ray
     /// tracer performs for it, so the bits do not depend on the width.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    fn surface_and_materials<const W: usize>(&self, ray: &RayPacket<S, W>, hit: &Hit<S, W>) -> (SurfacePacket<S, W>, Materials<S, W>) {
+    fn surface_and_materials<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        hit: &Hit<S, W>,
+    ) -> (SurfacePacket<S, W>, Materials<S, W>) {
         let point = ray.at(hit.t);
         let zero = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
         let mut ng = zero;
@@ -304,7 +306,14 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// to the unit geometric normal `g` where the interpolation has no
     /// length).
     #[inline(never)]
-    fn patch_normals<const W: usize>(&self, p: &Primitive<S>, pool: &[Vec3<S>], point: &Vec3xW<S, W>, g: &Vec3xW<S, W>, m: Mask<W>) -> Vec3xW<S, W> {
+    fn patch_normals<const W: usize>(
+        &self,
+        p: &Primitive<S>,
+        pool: &[Vec3<S>],
+        point: &Vec3xW<S, W>,
+        g: &Vec3xW<S, W>,
+        m: Mask<W>,
+    ) -> Vec3xW<S, W> {
         let mut out = *g;
         for l in 0..W {
             if !m.get(l) {
@@ -332,13 +341,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let zero = Lanes::<S, W>::zero();
         let mut color = Vec3::new(zero, zero, zero);
         let mut stack: HVec<Pending<S, W>, D> = HVec::new();
-        let _ = stack.push(Pending {
-            ray: *ray,
-            weight: Lanes::splat(S::ONE),
-            active,
-            depth: 1,
-            kind: RayKind::Primary,
-        });
+        let _ =
+            stack.push(Pending { ray: *ray, weight: Lanes::splat(S::ONE), active, depth: 1, kind: RayKind::Primary });
         let whitted = self.settings.mode == Mode::Whitted;
         let bg = self.scene.background();
         while let Some(p) = stack.pop() {
@@ -361,11 +365,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             let (surf, mat) = self.surface_and_materials(&p.ray, &hit);
             let local = self.local(&p.ray, &hit, &surf, &mat, whitted, stats);
             // Local light, weighted by (1 − Kt) in Whitted mode.
-            let w_local = if whitted {
-                p.weight * (Lanes::splat(S::ONE) - mat.kt)
-            } else {
-                p.weight
-            };
+            let w_local = if whitted { p.weight * (Lanes::splat(S::ONE) - mat.kt) } else { p.weight };
             let w_local = Lanes::select(hit.mask, w_local, zero);
             color = color + local.scale(w_local);
 

@@ -39,11 +39,7 @@ impl<T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T>> Vec3<T> {
     /// Cross product.
     #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
-        Vec3::new(
-            self.y * o.z - self.z * o.y,
-            self.z * o.x - self.x * o.z,
-            self.x * o.y - self.y * o.x,
-        )
+        Vec3::new(self.y * o.z - self.z * o.y, self.z * o.x - self.x * o.z, self.x * o.y - self.y * o.x)
     }
     /// Squared length.
     #[inline(always)]
@@ -187,11 +183,7 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// Lane-wise `select` of whole vectors.
     #[inline(always)]
     pub fn select(m: Mask<W>, a: Self, b: Self) -> Self {
-        Vec3::new(
-            Lanes::select(m, a.x, b.x),
-            Lanes::select(m, a.y, b.y),
-            Lanes::select(m, a.z, b.z),
-        )
+        Vec3::new(Lanes::select(m, a.x, b.x), Lanes::select(m, a.y, b.y), Lanes::select(m, a.z, b.z))
     }
     /// Per-lane unit vectors; lanes whose length is zero (or not finite)
     /// become zero vectors and are cleared in the returned mask.
@@ -266,11 +258,8 @@ mod tests {
 
     #[test]
     fn basis_is_orthonormal_and_right_handed() {
-        for w in [
-            Vec3::new(0.0f32, 0.0, 1.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(1.0, 2.0, -3.0).normalize_or_zero(),
-        ] {
+        for w in [Vec3::new(0.0f32, 0.0, 1.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 2.0, -3.0).normalize_or_zero()]
+        {
             let (u, v) = w.orthonormal_basis();
             assert!((u.length() - 1.0).abs() < 1e-6);
             assert!((v.length() - 1.0).abs() < 1e-6);

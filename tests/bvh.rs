@@ -30,7 +30,10 @@ fn random_scene_images_match_brute_force_at_every_width() {
                 let (i1, s1) = render_with(bvh.view(), &view, camera, settings, aov, 7, 1);
                 let (i4, s4) = render_with(bvh.view(), &view, camera, settings, aov, 16, 4);
                 let (i8, s8) = render_with(bvh.view(), &view, camera, settings, aov, 64, 8);
-                assert!(reference == i1 && reference == i4 && reference == i8, "case {case}: {mode:?} {aov:?}: BVH image differs");
+                assert!(
+                    reference == i1 && reference == i4 && reference == i8,
+                    "case {case}: {mode:?} {aov:?}: BVH image differs"
+                );
                 assert_eq!(ref_stats.rays(), s1.rays());
                 assert_eq!(ref_stats.rays(), s4.rays());
                 assert_eq!(ref_stats.rays(), s8.rays());
@@ -56,7 +59,13 @@ fn packet<const W: usize>(o: &[Vec3<f32>], d: &[Vec3<f32>]) -> (RayPacket<f32, W
     RayPacket::new(org, dir)
 }
 
-fn compare<const W: usize>(scene: &SceneView<'_, f32>, tree: &BvhView<'_, f32>, o: &[Vec3<f32>], d: &[Vec3<f32>], far: f32) -> usize {
+fn compare<const W: usize>(
+    scene: &SceneView<'_, f32>,
+    tree: &BvhView<'_, f32>,
+    o: &[Vec3<f32>],
+    d: &[Vec3<f32>],
+    far: f32,
+) -> usize {
     let (ray, active) = packet::<W>(o, d);
     let zero = Lanes::splat(0.0);
     let inf = Lanes::splat(f32::MAX);

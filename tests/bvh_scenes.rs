@@ -42,7 +42,10 @@ fn every_scene_renders_identically_with_and_without_the_bvh() {
                 // The comparison means something only if the scene is in view
                 // (ids are primitive + 1, 0 for the background).
                 let (ids, _) = render::<8>(&view, camera, settings, Aov::Id, SIZE);
-                assert!(ids.iter().filter(|p| **p != [0, 0, 0]).count() > (SIZE * SIZE / 20) as usize, "{name}: scene not in view");
+                assert!(
+                    ids.iter().filter(|p| **p != [0, 0, 0]).count() > (SIZE * SIZE / 20) as usize,
+                    "{name}: scene not in view"
+                );
             }
         })
         .unwrap()
@@ -51,7 +54,14 @@ fn every_scene_renders_identically_with_and_without_the_bvh() {
 }
 
 /// Rows `y .. y + h` of the image, width `W`.
-fn render_band<const W: usize>(scene: &SceneView<'_, f32>, tree: BvhView<'_, f32>, camera: Camera<f32>, settings: TraceSettings<f32>, y: u32, h: u32) -> (Vec<Rgb8>, RayStats) {
+fn render_band<const W: usize>(
+    scene: &SceneView<'_, f32>,
+    tree: BvhView<'_, f32>,
+    camera: Camera<f32>,
+    settings: TraceSettings<f32>,
+    y: u32,
+    h: u32,
+) -> (Vec<Rgb8>, RayStats) {
     let tracer = Tracer::<f32, _>::with_accelerator(*scene, tree, settings).unwrap();
     let renderer = Renderer { tracer, camera, aov: Aov::Color, sampling: Sampling::Centre };
     let mut buf = vec![[0u8; 3]; (camera.width() * h) as usize];

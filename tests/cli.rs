@@ -66,9 +66,20 @@ fn png_holds_the_same_pixels_as_ppm() {
 fn same_bytes_for_every_thread_count_packet_width_and_with_or_without_bvh() {
     let dir = tempfile::tempdir().unwrap();
     // Mirror, glass, every primitive kind; and patches with zero-area polygons.
-    for (file, size) in [("extensions.nff", ["--width", "72", "--height", "54"]), ("teapot-1.nff", ["--width", "48", "--height", "40"])] {
+    for (file, size) in
+        [("extensions.nff", ["--width", "72", "--height", "54"]), ("teapot-1.nff", ["--width", "48", "--height", "40"])]
+    {
         let mut reference: Option<Vec<u8>> = None;
-        for (threads, packet, bvh) in [("1", "1", ""), ("2", "4", ""), ("4", "8", ""), ("3", "16", ""), ("1", "8", "--accel=none"), ("2", "16", "--accel=none"), ("4", "1", "--accel=none"), ("2", "1", "")] {
+        for (threads, packet, bvh) in [
+            ("1", "1", ""),
+            ("2", "4", ""),
+            ("4", "8", ""),
+            ("3", "16", ""),
+            ("1", "8", "--accel=none"),
+            ("2", "16", "--accel=none"),
+            ("4", "1", "--accel=none"),
+            ("2", "1", ""),
+        ] {
             let mut args = size.to_vec();
             args.extend_from_slice(&["--threads", threads, "--packet", packet]);
             if !bvh.is_empty() {
@@ -100,7 +111,8 @@ fn aovs_differ_and_ids_are_file_order_plus_one() {
         }
     }
     // balls-1: 11 primitives (a floor polygon, ten spheres): ids 1 to 11 or 0.
-    let ids: Vec<u32> = images[3][header..].chunks(3).map(|p| (p[0] as u32) << 16 | (p[1] as u32) << 8 | p[2] as u32).collect();
+    let ids: Vec<u32> =
+        images[3][header..].chunks(3).map(|p| (p[0] as u32) << 16 | (p[1] as u32) << 8 | p[2] as u32).collect();
     assert!(ids.iter().all(|&k| k <= 11));
     assert!(ids.contains(&1) && ids.contains(&2));
 }
@@ -115,7 +127,10 @@ fn bad_scene_is_one_line_with_the_line_number_and_no_file() {
     assert_eq!(o.status.code(), Some(1));
     let err = stderr(&o);
     assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(err.starts_with("raypack: error: ") && err.contains("bad.nff: line 3, column 7: expected a number, found `O`"), "{err}");
+    assert!(
+        err.starts_with("raypack: error: ") && err.contains("bad.nff: line 3, column 7: expected a number, found `O`"),
+        "{err}"
+    );
     assert!(!out.exists());
     assert_eq!(files_in(dir.path()), [bad.clone()], "temporary files left behind");
 
@@ -148,7 +163,10 @@ fn scene_without_camera_missing_file_bad_output() {
     one_line_error(&raypack(&["render", "/nonexistent/scene.nff", "-o", out]), "/nonexistent/scene.nff");
     let balls = scene("balls-1.nff");
     one_line_error(&raypack(&["render", &balls, "-o", "/nonexistent/dir/x.ppm"]), "/nonexistent/dir/x.ppm");
-    one_line_error(&raypack(&["render", &balls, "-o", dir.path().join("x.jpg").to_str().unwrap()]), "use a .ppm or .png");
+    one_line_error(
+        &raypack(&["render", &balls, "-o", dir.path().join("x.jpg").to_str().unwrap()]),
+        "use a .ppm or .png",
+    );
     assert_eq!(files_in(dir.path()), [no_cam]);
 }
 
@@ -166,7 +184,14 @@ fn info_lists_counts_and_camera() {
     let o = raypack(&["info", &scene("teapot-1.nff")]);
     assert!(o.status.success());
     let s = String::from_utf8_lossy(&o.stdout);
-    for needle in ["primitives  57", "patches (pp)          56", "zero-area polygons    4", "lights      2", "resolution 512x512", "bounds"] {
+    for needle in [
+        "primitives  57",
+        "patches (pp)          56",
+        "zero-area polygons    4",
+        "lights      2",
+        "resolution 512x512",
+        "bounds",
+    ] {
         assert!(s.contains(needle), "{s} lacks {needle}");
     }
 }
@@ -175,7 +200,8 @@ fn info_lists_counts_and_camera() {
 fn summary_and_warning_without_quiet() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("t.ppm");
-    let o = raypack(&["render", &scene("teapot-1.nff"), "-o", out.to_str().unwrap(), "--width", "16", "--height", "16"]);
+    let o =
+        raypack(&["render", &scene("teapot-1.nff"), "-o", out.to_str().unwrap(), "--width", "16", "--height", "16"]);
     assert!(o.status.success());
     let e = stderr(&o);
     assert!(e.contains("warning") && e.contains("4 zero-area polygons"), "{e}");
@@ -207,9 +233,24 @@ fn scalar_fixed_renders_close_to_f32_and_rejects_out_of_range_scenes() {
     let dir = tempfile::tempdir().unwrap();
     let args = ["--width", "32", "--height", "32"];
     let f = render(dir.path(), "f.ppm", &scene("balls-1.nff"), &args);
-    let x1 = render(dir.path(), "x1.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed32", "--packet", "1", "-j", "1"]].concat());
-    let x8 = render(dir.path(), "x8.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed32", "--packet", "8", "-j", "3"]].concat());
-    let x16 = render(dir.path(), "x16.ppm", &scene("balls-1.nff"), &[&args[..], &["--scalar", "fixed32", "--packet", "16", "-j", "2"]].concat());
+    let x1 = render(
+        dir.path(),
+        "x1.ppm",
+        &scene("balls-1.nff"),
+        &[&args[..], &["--scalar", "fixed32", "--packet", "1", "-j", "1"]].concat(),
+    );
+    let x8 = render(
+        dir.path(),
+        "x8.ppm",
+        &scene("balls-1.nff"),
+        &[&args[..], &["--scalar", "fixed32", "--packet", "8", "-j", "3"]].concat(),
+    );
+    let x16 = render(
+        dir.path(),
+        "x16.ppm",
+        &scene("balls-1.nff"),
+        &[&args[..], &["--scalar", "fixed32", "--packet", "16", "-j", "2"]].concat(),
+    );
     // Bit-identical across packet widths and thread counts.
     assert_eq!(x1, x8);
     assert_eq!(x1, x16);
@@ -243,17 +284,42 @@ fn every_instruction_set_gives_the_same_bytes() {
     for isa in ["baseline", "avx2", "avx512", "auto"] {
         for packet in ["1", "8", "16"] {
             let out = dir.path().join(format!("{isa}-{packet}.ppm"));
-            let o = raypack(&["render", &scene("extensions.nff"), "-o", out.to_str().unwrap(), "--width", "56", "--height", "40", "--isa", isa, "--packet", packet, "-j", "2"]);
+            let o = raypack(&[
+                "render",
+                &scene("extensions.nff"),
+                "-o",
+                out.to_str().unwrap(),
+                "--width",
+                "56",
+                "--height",
+                "40",
+                "--isa",
+                isa,
+                "--packet",
+                packet,
+                "-j",
+                "2",
+            ]);
             if !o.status.success() {
                 // Only an ISA this CPU lacks may fail, with a clear message.
                 assert_eq!(o.status.code(), Some(1));
-                assert!(isa.starts_with("avx") && stderr(&o).contains(&format!("this CPU cannot run --isa {isa}")), "{isa}: {}", stderr(&o));
+                assert!(
+                    isa.starts_with("avx") && stderr(&o).contains(&format!("this CPU cannot run --isa {isa}")),
+                    "{isa}: {}",
+                    stderr(&o)
+                );
                 continue;
             }
             // The summary names the instruction set the tiles ran with:
             // packets narrower than 8 always run the baseline copy, 8 and 16
             // the one asked for.
-            let used = if packet == "1" { "baseline" } else if isa == "auto" { "" } else { isa };
+            let used = if packet == "1" {
+                "baseline"
+            } else if isa == "auto" {
+                ""
+            } else {
+                isa
+            };
             assert!(stderr(&o).contains(&format!(", isa {used}")), "{}", stderr(&o));
             let bytes = std::fs::read(&out).unwrap();
             match &reference {
@@ -275,7 +341,22 @@ fn fields(line: &str) -> std::collections::HashMap<&str, &str> {
 
 #[test]
 fn bench_prints_one_line_per_measurement() {
-    let o = raypack(&["bench", &scene("balls-1.nff"), "--width", "40", "--height", "24", "--rounds", "2", "--packet", "1,8", "-j", "1,2", "--isa", "baseline"]);
+    let o = raypack(&[
+        "bench",
+        &scene("balls-1.nff"),
+        "--width",
+        "40",
+        "--height",
+        "24",
+        "--rounds",
+        "2",
+        "--packet",
+        "1,8",
+        "-j",
+        "1,2",
+        "--isa",
+        "baseline",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout).unwrap();
     let lines: Vec<&str> = out.lines().collect();
@@ -287,7 +368,26 @@ fn bench_prints_one_line_per_measurement() {
     assert_eq!(lines.len(), 10, "{out}");
     let mut whitted_rays = None;
     for f in &bench {
-        for key in ["scene", "size", "scalar", "accel", "measure", "isa", "packet", "threads", "rays", "best_s", "median_s", "mrays_per_s", "vs_packet1", "vs_1thread", "lanes_primary", "lanes_shadow", "lanes_reflected", "lanes_refracted"] {
+        for key in [
+            "scene",
+            "size",
+            "scalar",
+            "accel",
+            "measure",
+            "isa",
+            "packet",
+            "threads",
+            "rays",
+            "best_s",
+            "median_s",
+            "mrays_per_s",
+            "vs_packet1",
+            "vs_1thread",
+            "lanes_primary",
+            "lanes_shadow",
+            "lanes_reflected",
+            "lanes_refracted",
+        ] {
             assert!(f.contains_key(key), "{key} missing in {f:?}");
         }
         // Lanes per packet: 1 at packet 1, between 1 and the width otherwise
@@ -323,14 +423,38 @@ fn bench_prints_one_line_per_measurement() {
         }
     }
     // Fixed point runs on the baseline whatever is asked.
-    let o = raypack(&["bench", &scene("balls-1.nff"), "--width", "16", "--height", "16", "--rounds", "1", "--packet", "4", "-j", "1", "--scalar", "fixed32"]);
+    let o = raypack(&[
+        "bench",
+        &scene("balls-1.nff"),
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--rounds",
+        "1",
+        "--packet",
+        "4",
+        "-j",
+        "1",
+        "--scalar",
+        "fixed32",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout).unwrap();
-    assert!(out.lines().filter(|l| l.starts_with("bench ")).all(|l| fields(l)["isa"] == "baseline" && fields(l)["scalar"] == "fixed32"), "{out}");
+    assert!(
+        out.lines()
+            .filter(|l| l.starts_with("bench "))
+            .all(|l| fields(l)["isa"] == "baseline" && fields(l)["scalar"] == "fixed32"),
+        "{out}"
+    );
     // Errors: a bad scene names its line; bad arguments exit with 2.
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.nff");
-    std::fs::write(&bad, "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\nf 1 0 0 1 0 0 0 1\ns 0 0 0 zero\n").unwrap();
+    std::fs::write(
+        &bad,
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\nf 1 0 0 1 0 0 0 1\ns 0 0 0 zero\n",
+    )
+    .unwrap();
     let o = raypack(&["bench", bad.to_str().unwrap(), "--rounds", "1"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("bad.nff: line 9, column 9"), "{}", stderr(&o));
@@ -368,14 +492,19 @@ fn pipes_standard_input_and_output() {
     assert!(o.status.success() && o.stdout.starts_with(b"\x89PNG"), "{}", stderr(&o));
     assert!(stderr(&o).contains("raypack: standard output: 24x18"), "{}", stderr(&o));
     // --format where the name has no extension; a conflicting one is an error.
-    let o = raypack_in(dir.path(), &[&["render", "-", "-o", "noext", "--format", "ppm", "-q"][..], &size].concat(), &text);
+    let o =
+        raypack_in(dir.path(), &[&["render", "-", "-o", "noext", "--format", "ppm", "-q"][..], &size].concat(), &text);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(std::fs::read(dir.path().join("noext")).unwrap() == file);
     let o = raypack_in(dir.path(), &["render", "-", "-o", "x.png", "--format", "ppm"], &text);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("the extension says png but --format says ppm"), "{}", stderr(&o));
     // Errors in a piped scene name standard input and the line.
-    let o = raypack_in(dir.path(), &["render", "-", "-o", "-"], b"v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\ns 0 0 zero 1\n");
+    let o = raypack_in(
+        dir.path(),
+        &["render", "-", "-o", "-"],
+        b"v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\ns 0 0 zero 1\n",
+    );
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("standard input: line 8"), "{}", stderr(&o));
     assert!(o.stdout.is_empty());
@@ -404,9 +533,17 @@ fn default_output_is_the_scene_stem_and_never_overwrites_without_force() {
     assert_eq!(std::fs::read(&out).unwrap(), b"mine");
     assert_eq!(files_in(dir.path()), [out.clone()]);
     // --force replaces it; --format ppm changes the default extension.
-    assert!(raypack_in(dir.path(), &[&["render", &scene("balls-1.nff"), "--force", "-q"][..], &size].concat(), b"").status.success());
+    assert!(raypack_in(dir.path(), &[&["render", &scene("balls-1.nff"), "--force", "-q"][..], &size].concat(), b"")
+        .status
+        .success());
     assert_eq!(std::fs::read(&out).unwrap(), first);
-    assert!(raypack_in(dir.path(), &[&["render", &scene("balls-1.nff"), "--format", "ppm", "-q"][..], &size].concat(), b"").status.success());
+    assert!(raypack_in(
+        dir.path(),
+        &[&["render", &scene("balls-1.nff"), "--format", "ppm", "-q"][..], &size].concat(),
+        b""
+    )
+    .status
+    .success());
     assert!(dir.path().join("balls-1.ppm").exists());
 }
 
@@ -437,12 +574,21 @@ fn regions_are_byte_identical_crops_at_any_width_thread_count_isa_and_sampling()
     for aa in [&[][..], &["--samples", "2"][..], &["--adaptive", "0.2"][..]] {
         let size = [&["--width", "50", "--height", "38"][..], aa].concat();
         let (_, _, full) = pixels_of(&render(dir.path(), "full.ppm", &scene("extensions.nff"), &size));
-        for (k, (region, packet, threads, isa)) in
-            [("0,0,50,38", "1", "1", "baseline"), ("3,5,30,31", "16", "2", "auto"), ("33,1,17,2", "4", "3", "auto"), ("49,37,1,1", "8", "1", "avx2"), ("7,0,9,38", "8", "2", "baseline")].into_iter().enumerate()
+        for (k, (region, packet, threads, isa)) in [
+            ("0,0,50,38", "1", "1", "baseline"),
+            ("3,5,30,31", "16", "2", "auto"),
+            ("33,1,17,2", "4", "3", "auto"),
+            ("49,37,1,1", "8", "1", "avx2"),
+            ("7,0,9,38", "8", "2", "baseline"),
+        ]
+        .into_iter()
+        .enumerate()
         {
             let args = [&size[..], &["--region", region, "--packet", packet, "-j", threads, "--isa", isa]].concat();
             let out = dir.path().join(format!("part{k}.ppm"));
-            let o = raypack(&[&["render", &scene("extensions.nff"), "-o", out.to_str().unwrap(), "-q"][..], &args].concat());
+            let o = raypack(
+                &[&["render", &scene("extensions.nff"), "-o", out.to_str().unwrap(), "-q"][..], &args].concat(),
+            );
             if !o.status.success() {
                 assert!(stderr(&o).contains("this CPU cannot run --isa avx2"), "{}", stderr(&o));
                 continue;
@@ -450,18 +596,39 @@ fn regions_are_byte_identical_crops_at_any_width_thread_count_isa_and_sampling()
             let bytes = std::fs::read(&out).unwrap();
             let text = String::from_utf8_lossy(&bytes[..60]).into_owned();
             let r: Vec<u32> = region.split(',').map(|v| v.parse().unwrap()).collect();
-            assert!(text.starts_with(&format!("P6\n# raypack-region x={} y={} w={} h={} full=50x38 render=", r[0], r[1], r[2], r[3])), "{text}");
+            assert!(
+                text.starts_with(&format!(
+                    "P6\n# raypack-region x={} y={} w={} h={} full=50x38 render=",
+                    r[0], r[1], r[2], r[3]
+                )),
+                "{text}"
+            );
             let (w, h, px) = pixels_of(&bytes);
             assert_eq!((w, h), (r[2], r[3]));
             assert!(px == crop(&full, 50, r[0], r[1], r[2], r[3]), "{aa:?} region {region} packet {packet}");
         }
     }
     // Not inside the image: exit 1 naming the image size; bad syntax: exit 2.
-    let o = raypack(&["render", &scene("balls-1.nff"), "-o", dir.path().join("x.ppm").to_str().unwrap(), "--width", "20", "--height", "10", "--region", "10,0,11,5"]);
+    let o = raypack(&[
+        "render",
+        &scene("balls-1.nff"),
+        "-o",
+        dir.path().join("x.ppm").to_str().unwrap(),
+        "--width",
+        "20",
+        "--height",
+        "10",
+        "--region",
+        "10,0,11,5",
+    ]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("region 10,0,11,5 is not inside the 20x10 image"), "{}", stderr(&o));
     for bad in ["1,2,3", "0,0,0,4", "a,b,c,d", "1,2,3,4,5"] {
-        assert_eq!(raypack(&["render", &scene("balls-1.nff"), "-o", "x.ppm", "--region", bad]).status.code(), Some(2), "{bad}");
+        assert_eq!(
+            raypack(&["render", &scene("balls-1.nff"), "-o", "x.ppm", "--region", bad]).status.code(),
+            Some(2),
+            "{bad}"
+        );
     }
 }
 
@@ -480,11 +647,19 @@ fn split_render_stitch_on_four_parts_equals_the_one_piece_render() {
             let (y, h) = (i * 12, 12.min(45 - i * 12));
             let part = format!("part-{i}.{ext}");
             let region = format!("0,{y},61,{h}");
-            render(dir.path(), &part, &scene("balls-1.nff"), &[&size[..], &["--region", &region, "--packet", ["1", "4", "8", "16"][i as usize]]].concat());
+            render(
+                dir.path(),
+                &part,
+                &scene("balls-1.nff"),
+                &[&size[..], &["--region", &region, "--packet", ["1", "4", "8", "16"][i as usize]]].concat(),
+            );
             parts.push(dir.path().join(part).to_string_lossy().into_owned());
         }
         let out = dir.path().join(format!("stitched.{ext}"));
-        let o = raypack(&[&["stitch"][..], &parts.iter().map(String::as_str).collect::<Vec<_>>(), &["-o", out.to_str().unwrap()]].concat());
+        let o = raypack(
+            &[&["stitch"][..], &parts.iter().map(String::as_str).collect::<Vec<_>>(), &["-o", out.to_str().unwrap()]]
+                .concat(),
+        );
         assert!(o.status.success(), "{}", stderr(&o));
         assert!(stderr(&o).contains("61x45 from 4 parts"), "{}", stderr(&o));
         assert!(std::fs::read(&out).unwrap() == whole, "{ext}: stitched differs from the one-piece render");
@@ -495,7 +670,12 @@ fn split_render_stitch_on_four_parts_equals_the_one_piece_render() {
 fn stitch_refuses_parts_that_do_not_tile_the_image() {
     let dir = tempfile::tempdir().unwrap();
     let part = |name: &str, region: &str, extra: &[&str]| {
-        render(dir.path(), name, &scene("balls-1.nff"), &[&["--width", "20", "--height", "10", "--region", region][..], extra].concat());
+        render(
+            dir.path(),
+            name,
+            &scene("balls-1.nff"),
+            &[&["--width", "20", "--height", "10", "--region", region][..], extra].concat(),
+        );
         dir.path().join(name).to_string_lossy().into_owned()
     };
     let a = part("a.ppm", "0,0,10,10", &[]);
@@ -518,7 +698,12 @@ fn stitch_refuses_parts_that_do_not_tile_the_image() {
     fails(&[&a, &over, &b], "overlap at pixel (5, 0)");
     fails(&[&a, &other], "part of another render");
     let big = {
-        render(dir.path(), "big.ppm", &scene("balls-1.nff"), &["--width", "30", "--height", "10", "--region", "10,0,10,10"]);
+        render(
+            dir.path(),
+            "big.ppm",
+            &scene("balls-1.nff"),
+            &["--width", "30", "--height", "10", "--region", "10,0,10,10"],
+        );
         dir.path().join("big.ppm").to_string_lossy().into_owned()
     };
     fails(&[&a, &big], "part of a 30x10 image, but");
@@ -552,7 +737,13 @@ fn anti_aliasing_is_deterministic_and_reports_its_cost() {
     let plain = render(dir.path(), "plain.ppm", &scene("extensions.nff"), &size);
     for aa in [["--samples", "3"], ["--adaptive", "0.3"]] {
         let mut reference: Option<Vec<u8>> = None;
-        for (packet, threads, isa) in [("1", "1", "baseline"), ("4", "2", "baseline"), ("8", "3", "auto"), ("16", "1", "auto"), ("8", "2", "avx2")] {
+        for (packet, threads, isa) in [
+            ("1", "1", "baseline"),
+            ("4", "2", "baseline"),
+            ("8", "3", "auto"),
+            ("16", "1", "auto"),
+            ("8", "2", "avx2"),
+        ] {
             let args = [&size[..], &aa, &["--packet", packet, "-j", threads, "--isa", isa]].concat();
             let out = dir.path().join("aa.ppm");
             let o = raypack(&[&["render", &scene("extensions.nff"), "-o", out.to_str().unwrap()][..], &args].concat());
@@ -560,7 +751,12 @@ fn anti_aliasing_is_deterministic_and_reports_its_cost() {
                 assert!(stderr(&o).contains("this CPU cannot run --isa"), "{}", stderr(&o));
                 continue;
             }
-            assert!(stderr(&o).contains("raypack: anti-aliasing: ") && stderr(&o).contains("primary rays per pixel (1 without)"), "{}", stderr(&o));
+            assert!(
+                stderr(&o).contains("raypack: anti-aliasing: ")
+                    && stderr(&o).contains("primary rays per pixel (1 without)"),
+                "{}",
+                stderr(&o)
+            );
             let bytes = std::fs::read(&out).unwrap();
             match &reference {
                 None => reference = Some(bytes),
@@ -570,8 +766,19 @@ fn anti_aliasing_is_deterministic_and_reports_its_cost() {
         assert!(reference.unwrap() != plain, "{aa:?} changed nothing");
     }
     // Usage errors: --adaptive with one sample, AA of a non-colour AOV, bad values.
-    for bad in [&["--adaptive", "0.3", "--samples", "1"][..], &["--samples", "2", "--aov", "depth"], &["--adaptive", "4"], &["--adaptive", "x"], &["--samples", "0"], &["--samples", "17"]] {
-        assert_eq!(raypack(&[&["render", &scene("balls-1.nff"), "-o", "x.ppm"][..], bad].concat()).status.code(), Some(2), "{bad:?}");
+    for bad in [
+        &["--adaptive", "0.3", "--samples", "1"][..],
+        &["--samples", "2", "--aov", "depth"],
+        &["--adaptive", "4"],
+        &["--adaptive", "x"],
+        &["--samples", "0"],
+        &["--samples", "17"],
+    ] {
+        assert_eq!(
+            raypack(&[&["render", &scene("balls-1.nff"), "-o", "x.ppm"][..], bad].concat()).status.code(),
+            Some(2),
+            "{bad:?}"
+        );
     }
 }
 
@@ -580,14 +787,32 @@ fn version_and_bench_of_both_accelerators() {
     let o = raypack(&["--version"]);
     assert!(o.status.success());
     assert_eq!(String::from_utf8_lossy(&o.stdout).trim(), format!("raypack {}", env!("CARGO_PKG_VERSION")));
-    let o = raypack(&["bench", &scene("balls-1.nff"), "--width", "16", "--height", "16", "--rounds", "2", "--packet", "8", "-j", "1", "--accel", "bvh,none"]);
+    let o = raypack(&[
+        "bench",
+        &scene("balls-1.nff"),
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--rounds",
+        "2",
+        "--packet",
+        "8",
+        "-j",
+        "1",
+        "--accel",
+        "bvh,none",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout).unwrap();
     assert!(out.lines().nth(1).unwrap().contains("accel=bvh nodes="), "{out}");
     let bench: Vec<_> = out.lines().filter(|l| l.starts_with("bench ")).map(fields).collect();
     assert_eq!(bench.len(), 4, "{out}");
     for measure in ["primary", "whitted"] {
-        let rays: Vec<_> = ["bvh", "none"].iter().map(|a| bench.iter().find(|f| f["measure"] == measure && f["accel"] == *a).expect(a)["rays"]).collect();
+        let rays: Vec<_> = ["bvh", "none"]
+            .iter()
+            .map(|a| bench.iter().find(|f| f["measure"] == measure && f["accel"] == *a).expect(a)["rays"])
+            .collect();
         assert_eq!(rays[0], rays[1], "{out}");
     }
 }

@@ -29,7 +29,11 @@ fn plain<A: Accelerator<f32>>(renderer: &Renderer<'_, f32, A>) -> (Vec<Rgb8>, Ra
 
 /// `renderer`'s whole image through the dispatcher: tiles of 16 pixels,
 /// packets of `packet` rays compiled for `isa`.
-fn dispatched<A: Accelerator<f32> + Sync>(renderer: &Renderer<'_, f32, A>, packet: usize, isa: Isa) -> (Vec<Rgb8>, RayStats) {
+fn dispatched<A: Accelerator<f32> + Sync>(
+    renderer: &Renderer<'_, f32, A>,
+    packet: usize,
+    isa: Isa,
+) -> (Vec<Rgb8>, RayStats) {
     let tiling = Tiling { packet, isa, threads: 1, tile: 16 };
     render_tiles(renderer, renderer.camera.full_rect(), &tiling, &|| {}).unwrap()
 }
@@ -55,7 +59,11 @@ fn check(renderer: &Renderer<'_, f32>, what: &str) {
 
 /// Every dispatched render of `renderer`, at every width, equals `reference`
 /// (its image and the rays it traced).
-fn check_against<A: Accelerator<f32> + Sync>(renderer: &Renderer<'_, f32, A>, (reference, ref_stats): (Vec<Rgb8>, RayStats), what: &str) {
+fn check_against<A: Accelerator<f32> + Sync>(
+    renderer: &Renderer<'_, f32, A>,
+    (reference, ref_stats): (Vec<Rgb8>, RayStats),
+    what: &str,
+) {
     for isa in isas() {
         for w in [1, 4, 8, 16] {
             let (img, stats) = dispatched(renderer, w, isa);
@@ -106,7 +114,11 @@ fn every_isa_renders_bvh_scenes_to_the_bytes_of_brute_force() {
             let plain: Tracer<f32> = Tracer::new(scene.view(), TraceSettings::default()).unwrap();
             let brute_force = self::plain(&Renderer { tracer: plain, camera, aov, sampling: Sampling::Centre });
             let tree = Tracer::<f32, _>::with_accelerator(scene.view(), bvh.view(), TraceSettings::default()).unwrap();
-            check_against(&Renderer { tracer: tree, camera, aov, sampling: Sampling::Centre }, brute_force, &format!("bvh case {case} {aov:?} (vs brute force)"));
+            check_against(
+                &Renderer { tracer: tree, camera, aov, sampling: Sampling::Centre },
+                brute_force,
+                &format!("bvh case {case} {aov:?} (vs brute force)"),
+            );
         }
     }
 }

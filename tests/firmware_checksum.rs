@@ -47,7 +47,8 @@ fn check<S: Scalar>(name: &str) -> Vec<Rgb8> {
     // The firmware configurations: width 1 with one-row bands (Cortex-M0),
     // 4 (RISC-V) and 8 (Cortex-M4F) with two-row bands; plus another band size.
     let one = checksums::<S, 1>(&renderer, 1);
-    let (four, eight, eight_tall) = (checksums::<S, 4>(&renderer, 2), checksums::<S, 8>(&renderer, 2), checksums::<S, 8>(&renderer, 7));
+    let (four, eight, eight_tall) =
+        (checksums::<S, 4>(&renderer, 2), checksums::<S, 8>(&renderer, 2), checksums::<S, 8>(&renderer, 7));
     assert!(one.same_render(&four), "{name}: widths 1 and 4 differ: {one:?} {four:?}");
     assert!(one.same_render(&eight), "{name}: widths 1 and 8 differ: {one:?} {eight:?}");
     assert!(eight.same_render(&eight_tall), "{name}: band height changes the result: {eight:?} {eight_tall:?}");
@@ -60,7 +61,9 @@ fn check<S: Scalar>(name: &str) -> Vec<Rgb8> {
     // Independent recomputation: one full-frame render, FNV-1a written out.
     let mut full = vec![[0u8; 3]; 160 * 128];
     renderer.render_rect::<4>(camera.full_rect(), &mut full, &mut RayStats::default()).unwrap();
-    let fnv = |bytes: &mut dyn Iterator<Item = u8>| bytes.fold(0x811c_9dc5u32, |h, b| (h ^ b as u32).wrapping_mul(16_777_619));
+    let fnv = |bytes: &mut dyn Iterator<Item = u8>| {
+        bytes.fold(0x811c_9dc5u32, |h, b| (h ^ b as u32).wrapping_mul(16_777_619))
+    };
     let rgb888 = fnv(&mut full.iter().flat_map(|p| p.iter().copied()));
     let rgb565 = fnv(&mut full
         .iter()

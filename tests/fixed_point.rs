@@ -90,8 +90,10 @@ fn fixed_render_is_not_trivially_equal_to_f32() {
     // the test compared a render with itself).
     let sf = demo_scene::<f32>().unwrap();
     let sx = demo_scene::<Fixed>().unwrap();
-    let (a, _) = render_in::<f32, 4>(&sf.view(), demo_camera(64, 48).unwrap(), TraceSettings::default(), Aov::Color, 16);
-    let (b, _) = render_in::<Fixed, 4>(&sx.view(), demo_camera(64, 48).unwrap(), TraceSettings::default(), Aov::Color, 16);
+    let (a, _) =
+        render_in::<f32, 4>(&sf.view(), demo_camera(64, 48).unwrap(), TraceSettings::default(), Aov::Color, 16);
+    let (b, _) =
+        render_in::<Fixed, 4>(&sx.view(), demo_camera(64, 48).unwrap(), TraceSettings::default(), Aov::Color, 16);
     assert!(psnr(&a, &b).is_finite());
     // And the metric sees real differences: a black image is far off.
     assert!(psnr(&a, &vec![[0, 0, 0]; a.len()]) < 20.0);

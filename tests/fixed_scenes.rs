@@ -39,7 +39,14 @@ const SCENES: [(&str, &str, u32); 14] = [
 /// and ID, packets of 8; and, when `widths` is set, also packets of 1 and
 /// 4, asserted bit-identical).
 fn render_scene(name: &str, text: &str, size: u32, scalar: ScalarKind, widths: bool) -> (Vec<Rgb8>, Vec<Rgb8>) {
-    let base = Options { width: Some(size), height: Some(size), scalar, accel: AccelKind::Bvh, threads: Some(2), ..Options::default() };
+    let base = Options {
+        width: Some(size),
+        height: Some(size),
+        scalar,
+        accel: AccelKind::Bvh,
+        threads: Some(2),
+        ..Options::default()
+    };
     let render = |o: Options| Image::render(text, &o).unwrap_or_else(|e| panic!("{name}: {e}")).pixels;
     let color = render(base);
     let id = render(Options { aov: Aov::Id, ..base });
@@ -54,8 +61,23 @@ fn render_scene(name: &str, text: &str, size: u32, scalar: ScalarKind, widths: b
 /// Every SPD database in `tests/scenes` (the extension sample is raypack's
 /// own, not SPD).
 const SPD: [&str; 17] = [
-    "balls-1", "balls-2", "gears-1", "gears-2", "jacks-1", "lattice-1", "mount-1", "mount-2", "rings-1", "shells-1", "sombrero-1", "teapot-1",
-    "teapot-2", "tetra-1", "tetra-2", "tree-1", "tree-2",
+    "balls-1",
+    "balls-2",
+    "gears-1",
+    "gears-2",
+    "jacks-1",
+    "lattice-1",
+    "mount-1",
+    "mount-2",
+    "rings-1",
+    "shells-1",
+    "sombrero-1",
+    "teapot-1",
+    "teapot-2",
+    "tetra-1",
+    "tetra-2",
+    "tree-1",
+    "tree-2",
 ];
 
 #[test]

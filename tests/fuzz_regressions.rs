@@ -23,7 +23,8 @@ use raypack::render::Sampling;
 /// beyond the BVH's exactness ("rays that start within a few hundred scene
 /// sizes of the origin", src/query/bvh/mod.rs): a few pixels differ from
 /// brute force. `{D}` is the plane's offset.
-const FAR_PLANE: &str = "b 0.1 0.12 0.2\nv\nfrom 0 -8 3\nat 0 0 0.8\nup 0 0 1\nangle 40\nhither 0.01\nresolution 320 240\n\
+const FAR_PLANE: &str =
+    "b 0.1 0.12 0.2\nv\nfrom 0 -8 3\nat 0 0 0.8\nup 0 0 1\nangle 40\nhither 0.01\nresolution 320 240\n\
 l -4 -5 7\nl 5 -3 4 0.5 0.45 0.4\nfx 0.8 0.8 0.7 0.1 0.8 0 1 0 0 1\npl 0 0 1 {D}\nf 0.9 0.2 0.15 0.7 0.3 20 0 1\n\
 box -2.6 -0.4 0 -1.6 0.6 1\nfx 0.2 0.3 0.9 0.1 0.7 0.4 30 00.1 0 1\nobox 1.9 -0.6 0.4 0.4 0.4 0.4 1 1 0 -1 1 0\n\
 fx 0.2 0.8 0.3 0.1 0.8 0.2 10 0 0 1\nc\n-3 0.6 0 0.3\n-3 0.6 0.9 0.3\np 4\n-4 3 0\n4 3 0\n4 3 3\n-4 3 3\n\
@@ -43,7 +44,16 @@ f 0.737 0.561 0.561 0.7 0.7 11.1434 0 1\nc 0 -0.649519 0.375 0.075 0 0.649519 -0
 s 0.704769 0.128258 0.2 421290.15\ns 0.256515 -0.352385 -0.610348 0.15\n";
 
 fn tiny(w: u32, h: u32, accel: AccelKind) -> Options {
-    Options { width: Some(w), height: Some(h), packet: 4, threads: Some(1), depth: 3, accel, sampling: Sampling::Centre, ..Options::default() }
+    Options {
+        width: Some(w),
+        height: Some(h),
+        packet: 4,
+        threads: Some(1),
+        depth: 3,
+        accel,
+        sampling: Sampling::Centre,
+        ..Options::default()
+    }
 }
 
 /// Both accelerators render `text` cleanly at `w × h`; the pixels of each.
@@ -106,7 +116,9 @@ pp 3\n-3.6 2.8 0.3 -0.6 -1 0\n-2.4 2.8 1.3 0.6 -1 0\n-3 2.8 1.5 0 -1 0.6\n";
 fn an_obox_with_parallel_axes_is_refused_on_its_line() {
     let e = nff::scan(PARALLEL_OBOX).unwrap_err();
     assert_eq!(e.to_string(), "line 9, column 1: invalid `obox`: an axis, normal or direction has zero length");
-    let Err(Error::Scene(loaded)) = image::with_scene(PARALLEL_OBOX, ScalarKind::F32, AccelKind::Bvh, |_| ()) else { panic!("loaded") };
+    let Err(Error::Scene(loaded)) = image::with_scene(PARALLEL_OBOX, ScalarKind::F32, AccelKind::Bvh, |_| ()) else {
+        panic!("loaded")
+    };
     assert_eq!(loaded, e);
     // With the minus sign back, the box is fine and both accelerators give
     // the same bytes.
@@ -136,7 +148,9 @@ fn a_capacity_error_stops_the_reader_before_a_later_error_the_scanner_reports() 
     // Nothing of the polygon stays behind.
     assert_eq!((small.len(), small.vertex_count()), (0, 0));
     // The command line's loader reads it with the scanner's error.
-    let Err(Error::Scene(loaded)) = image::with_scene(&text, ScalarKind::F32, AccelKind::Bvh, |_| ()) else { panic!("loaded") };
+    let Err(Error::Scene(loaded)) = image::with_scene(&text, ScalarKind::F32, AccelKind::Bvh, |_| ()) else {
+        panic!("loaded")
+    };
     assert_eq!(loaded, scanned);
 }
 

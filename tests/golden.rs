@@ -86,7 +86,16 @@ fn read_ref(text: &str) -> RefScene {
     let mut lines = text.lines().map(|l| l.split('#').next().unwrap_or("")).filter(|l| !l.trim().is_empty());
     let nums = |l: &str| l.split_whitespace().skip(1).map(|x| x.parse::<f64>().unwrap()).collect::<Vec<f64>>();
     let all = |l: &str| l.split_whitespace().map(|x| x.parse::<f64>().unwrap()).collect::<Vec<f64>>();
-    let mut s = RefScene { from: [0.0; 3], at: [0.0; 3], up: [0.0; 3], angle: 0.0, lights: vec![], bg: [0.0; 3], prims: vec![], mats: vec![] };
+    let mut s = RefScene {
+        from: [0.0; 3],
+        at: [0.0; 3],
+        up: [0.0; 3],
+        angle: 0.0,
+        lights: vec![],
+        bg: [0.0; 3],
+        prims: vec![],
+        mats: vec![],
+    };
     let mut light_pos = vec![];
     while let Some(l) = lines.next() {
         let key = l.split_whitespace().next().unwrap();
@@ -116,7 +125,10 @@ fn read_ref(text: &str) -> RefScene {
                     b.extend(all(lines.next().unwrap()));
                     b
                 };
-                s.prims.push((Prim::Cone { base: [n[0], n[1], n[2]], br: n[3], apex: [n[4], n[5], n[6]], ar: n[7] }, s.mats.len() - 1));
+                s.prims.push((
+                    Prim::Cone { base: [n[0], n[1], n[2]], br: n[3], apex: [n[4], n[5], n[6]], ar: n[7] },
+                    s.mats.len() - 1,
+                ));
             }
             "p" | "pp" => {
                 let count = n[0] as usize;
@@ -193,7 +205,13 @@ fn hits(p: &Prim, o: V, d: V) -> Vec<f64> {
             let a = dot(dp, dp) - s * s * dw * dw;
             let b = 2.0 * (dot(op, dp) - s * dw * r0);
             let c = dot(op, op) - r0 * r0;
-            quad_roots(a, b, c).into_iter().filter(|t| { let z = ow + t * dw; (0.0..=h).contains(&z) }).collect()
+            quad_roots(a, b, c)
+                .into_iter()
+                .filter(|t| {
+                    let z = ow + t * dw;
+                    (0.0..=h).contains(&z)
+                })
+                .collect()
         }
         Prim::Poly { v, .. } => {
             let n = newell(v);
@@ -221,7 +239,11 @@ fn hits(p: &Prim, o: V, d: V) -> Vec<f64> {
                     }
                 }
             }
-            if inside { vec![t] } else { vec![] }
+            if inside {
+                vec![t]
+            } else {
+                vec![]
+            }
         }
     }
     .into_iter()
@@ -254,7 +276,11 @@ fn patch_normal(v: &[V], ns: &[V], n: V, x: V) -> V {
     let tan_half = |i: usize, j: usize| {
         let cr = s[i].0 * s[j].1 - s[i].1 * s[j].0;
         let dt = s[i].0 * s[j].0 + s[i].1 * s[j].1;
-        if cr == 0.0 { 0.0 } else { (r[i] * r[j] - dt) / cr }
+        if cr == 0.0 {
+            0.0
+        } else {
+            (r[i] * r[j] - dt) / cr
+        }
     };
     let mut sum = [0.0; 3];
     let mut wsum = 0.0;
@@ -266,7 +292,11 @@ fn patch_normal(v: &[V], ns: &[V], n: V, x: V) -> V {
         sum = add(sum, mul(ns[i], w));
         wsum += w;
     }
-    if wsum == 0.0 { n } else { norm(mul(sum, 1.0 / wsum)) }
+    if wsum == 0.0 {
+        n
+    } else {
+        norm(mul(sum, 1.0 / wsum))
+    }
 }
 
 /// Nearest primitive, its distance, and whether another primitive is hit at
@@ -398,7 +428,8 @@ fn compare(name: &str, text: &'static str, shift: f64) -> Comparison {
     for j in 0..SIZE {
         for i in 0..SIZE {
             let k = (j * SIZE + i) as usize;
-            let rays: Vec<V> = jitter.iter().map(|(dx, dy)| cam.dir(i as f64 + 0.5 + shift + dx, j as f64 + 0.5 + dy)).collect();
+            let rays: Vec<V> =
+                jitter.iter().map(|(dx, dy)| cam.dir(i as f64 + 0.5 + shift + dx, j as f64 + 0.5 + dy)).collect();
             let hits: Vec<_> = rays.iter().map(|&d| nearest(&s, cam.eye, d)).collect();
             let id = |h: &Option<(usize, f64, bool)>| h.map(|(k, _, _)| k as u32 + 1).unwrap_or(0);
             let stable = hits.iter().all(|h| id(h) == id(&hits[0])) && !hits.iter().any(|h| h.is_some_and(|x| x.2));
@@ -448,7 +479,10 @@ fn check(name: &str, text: &'static str) -> (u64, u64) {
     let n = (SIZE * SIZE) as usize;
     assert!(c.id_skip * 4 < n && c.col_skip * 4 < n, "{name}: {} / {} pixels excluded", c.id_skip, c.col_skip);
     assert!(c.distinct_ids >= 3, "{name}: only {} distinct ids compared", c.distinct_ids);
-    println!("{name}: {} ID and {} colour pixels excluded of {n}; {} distinct ids", c.id_skip, c.col_skip, c.distinct_ids);
+    println!(
+        "{name}: {} ID and {} colour pixels excluded of {n}; {} distinct ids",
+        c.id_skip, c.col_skip, c.distinct_ids
+    );
     (c.id_hash, c.cast_hash)
 }
 

@@ -53,9 +53,38 @@ fn pick<'a, T>(rng: &mut Rng, items: &'a [T]) -> &'a T {
 
 /// Replacements for a number field.
 const ODD_NUMBERS: &[&str] = &[
-    "NaN", "nan", "inf", "-inf", "infinity", "-0", "0", "-0.0", "1e39", "-1e39", "3.4028235e38", "3.4028236e38",
-    "1e30", "-1e30", "99999999999999999999999", "1e-45", "1e-50", "65535", "65536", "4294967296", "-1", "2", "1.2.3",
-    "0x10", "1e", "--1", "+", ".", "1,5", "é", "٣", "１",
+    "NaN",
+    "nan",
+    "inf",
+    "-inf",
+    "infinity",
+    "-0",
+    "0",
+    "-0.0",
+    "1e39",
+    "-1e39",
+    "3.4028235e38",
+    "3.4028236e38",
+    "1e30",
+    "-1e30",
+    "99999999999999999999999",
+    "1e-45",
+    "1e-50",
+    "65535",
+    "65536",
+    "4294967296",
+    "-1",
+    "2",
+    "1.2.3",
+    "0x10",
+    "1e",
+    "--1",
+    "+",
+    ".",
+    "1,5",
+    "é",
+    "٣",
+    "１",
 ];
 
 /// Characters to insert: separators the reader does and does not treat as
@@ -284,7 +313,11 @@ fn mutated_scenes_load_or_fail_with_a_line_number() {
                     Ok(Some(v)) => *tally.entry(v).or_default() += 1,
                     Ok(None) => {}
                     Err(p) => {
-                        let why = p.downcast_ref::<String>().map(String::as_str).or(p.downcast_ref::<&str>().copied()).unwrap_or("?");
+                        let why = p
+                            .downcast_ref::<String>()
+                            .map(String::as_str)
+                            .or(p.downcast_ref::<&str>().copied())
+                            .unwrap_or("?");
                         panic!("{name} mutant {k} ({ops:?}, {scalar:?}): {why}\n--- input ---\n{text}");
                     }
                 }

@@ -11,12 +11,7 @@ use raypack::primitives::ShapeKind;
 
 /// Runs `f` on a thread whose stack holds a `Big` scene.
 fn with_big_stack(f: impl FnOnce() + Send + 'static) {
-    std::thread::Builder::new()
-        .stack_size(64 << 20)
-        .spawn(f)
-        .unwrap()
-        .join()
-        .unwrap();
+    std::thread::Builder::new().stack_size(64 << 20).spawn(f).unwrap().join().unwrap();
 }
 
 #[test]
@@ -65,8 +60,11 @@ fn gears_2_needs_more_than_a_small_scene_and_says_so() {
         let mut small: Scene<f32, 1024, 4096> = Scene::new();
         let e = nff::parse(text, &mut small).unwrap_err();
         let msg = e.to_string();
-        assert!(msg.contains(&format!("capacity 1024 exceeded (needs {})", needs.primitives()))
-            || msg.contains(&format!("capacity 4096 exceeded (needs {})", needs.vertices)), "{msg}");
+        assert!(
+            msg.contains(&format!("capacity 1024 exceeded (needs {})", needs.primitives()))
+                || msg.contains(&format!("capacity 4096 exceeded (needs {})", needs.vertices)),
+            "{msg}"
+        );
     });
 }
 
@@ -79,7 +77,25 @@ fn gears_2_needs_more_than_a_small_scene_and_says_so() {
 fn mutated_scenes_never_panic_and_scan_agrees_with_parse() {
     with_big_stack(|| {
         let mut rng = Rng(0x5eed_0f_4e44);
-        let odd = ["nan", "-inf", "1e39", "-0", "0", "-3", "2", "1e-45", "é", "#", "p", "pp", "v", "c", "q", "\r", "9999999999"];
+        let odd = [
+            "nan",
+            "-inf",
+            "1e39",
+            "-0",
+            "0",
+            "-3",
+            "2",
+            "1e-45",
+            "é",
+            "#",
+            "p",
+            "pp",
+            "v",
+            "c",
+            "q",
+            "\r",
+            "9999999999",
+        ];
         let sources = [SCENES[0].1, SCENES[4].1, SCENES[5].1, SCENES[11].1, SCENES[17].1];
         for round in 0..3000 {
             let src = sources[round % sources.len()];

@@ -9,8 +9,8 @@
 
 mod common;
 use common::*;
-use raypack::prelude::*;
 use raypack::lanes::{Lanes, Mask};
+use raypack::prelude::*;
 use raypack::primitives::Shape;
 use raypack::ray::{Ray, RayPacket};
 
@@ -129,7 +129,8 @@ impl Implicit<'_> {
             Shape::Quadric(q) => {
                 let [a, b, c, d, e, f, g, h, i, _] = q.coefficients().map(|x| x as f64);
                 let [x, y, z] = p;
-                let grad = [2.0 * a * x + d * y + e * z + g, 2.0 * b * y + d * x + f * z + h, 2.0 * c * z + e * x + f * y + i];
+                let grad =
+                    [2.0 * a * x + d * y + e * z + g, 2.0 * b * y + d * x + f * z + h, 2.0 * c * z + e * x + f * y + i];
                 self.f(p).abs() / len(grad).max(1e-12)
             }
             Shape::Cone(cn) => {
@@ -202,7 +203,8 @@ fn cone_local(c: &raypack::primitives::Cone<f32>, p: V) -> (f64, f64, f64) {
     (radial, z, rb as f64 + (ra as f64 - rb as f64) * z / h)
 }
 
-const KINDS: [&str; 9] = ["sphere", "plane", "convex polygon", "star polygon", "box", "oriented box", "quadric", "quadric", "cone"];
+const KINDS: [&str; 9] =
+    ["sphere", "plane", "convex polygon", "star polygon", "box", "oriented box", "quadric", "quadric", "cone"];
 
 /// One primitive of kind `k` with random rays aimed near it; checks every
 /// hit against the implicit description. Returns (hits, misses) checked.
@@ -253,7 +255,11 @@ fn check_kind(seed: u64, k: u32, rays: usize) -> (usize, usize) {
                 if imp.valid(at(tc), 1e-3 * scale_of) == Some(true) && slope > 1e-4 && (t_end - tc) > 1e-3 * scale_of {
                     panic!(
                         "{} (seed {seed}): crossing at t = {tc} before the reported {} (hit: {}), ray {:?} {:?}",
-                        KINDS[k as usize], h.t.0[0], h.mask.get(0), po, pd
+                        KINDS[k as usize],
+                        h.t.0[0],
+                        h.mask.get(0),
+                        po,
+                        pd
                     );
                 }
             }
@@ -262,10 +268,19 @@ fn check_kind(seed: u64, k: u32, rays: usize) -> (usize, usize) {
         if h.mask.get(0) {
             hits += 1;
             let p = at(h.t.0[0] as f64);
-            let tol = 2e-5 * (scale_of + h.t.0[0] as f64) * if matches!(prim.shape, Shape::Quadric(_)) { 20.0 } else { 1.0 };
+            let tol =
+                2e-5 * (scale_of + h.t.0[0] as f64) * if matches!(prim.shape, Shape::Quadric(_)) { 20.0 } else { 1.0 };
             let dist = imp.dist(p);
-            assert!(dist <= tol, "{} (seed {seed}): hit point off the surface by {dist} (tol {tol})", KINDS[k as usize]);
-            assert!(imp.valid(p, 1e-3 * scale_of) != Some(false), "{}: hit outside the finite surface", KINDS[k as usize]);
+            assert!(
+                dist <= tol,
+                "{} (seed {seed}): hit point off the surface by {dist} (tol {tol})",
+                KINDS[k as usize]
+            );
+            assert!(
+                imp.valid(p, 1e-3 * scale_of) != Some(false),
+                "{}: hit outside the finite surface",
+                KINDS[k as usize]
+            );
         } else {
             misses += 1;
         }
@@ -335,7 +350,10 @@ fn widths_give_identical_hits_and_normals() {
                 assert_eq!(s1.shading.lane(0), s8.shading.lane(l));
                 let c1 = tracer.trace(&p1, m1, &mut st);
                 let (a, b) = (c1.lane(0), c8.lane(l));
-                assert_eq!([a.x.to_bits(), a.y.to_bits(), a.z.to_bits()], [b.x.to_bits(), b.y.to_bits(), b.z.to_bits()]);
+                assert_eq!(
+                    [a.x.to_bits(), a.y.to_bits(), a.z.to_bits()],
+                    [b.x.to_bits(), b.y.to_bits(), b.z.to_bits()]
+                );
                 assert!(a.is_finite(), "non-finite colour {a:?}");
             }
         }
@@ -379,7 +397,8 @@ fn trace_never_returns_nan_even_for_degenerate_rays() {
     let mut st = RayStats::default();
     // Zero-length and non-finite directions become inactive lanes, defined as black.
     let org = Vec3::new(Lanes([0.0f32, 1.0, f32::NAN, 0.0]), Lanes([0.0, 0.0, 0.0, f32::INFINITY]), Lanes([9.0; 4]));
-    let dir = Vec3::new(Lanes([0.0f32, 0.0, 0.0, 0.0]), Lanes([0.0, f32::NAN, 0.0, 0.0]), Lanes([0.0, -1.0, -1.0, -1.0]));
+    let dir =
+        Vec3::new(Lanes([0.0f32, 0.0, 0.0, 0.0]), Lanes([0.0, f32::NAN, 0.0, 0.0]), Lanes([0.0, -1.0, -1.0, -1.0]));
     let (p, m) = RayPacket::new(org, dir);
     assert_eq!(m.to_array(), [false, false, false, false]);
     let c = tracer.trace(&p, m, &mut st);

@@ -107,7 +107,12 @@ impl Reference<'_> {
             Shape::Quadric(q) => {
                 let [a, b, c, dd, e, f, g, h, i, j] = q.coefficients().map(|x| x as f64);
                 let qf = |p: V| {
-                    a * p[0] * p[0] + b * p[1] * p[1] + c * p[2] * p[2] + dd * p[0] * p[1] + e * p[0] * p[2] + f * p[1] * p[2]
+                    a * p[0] * p[0]
+                        + b * p[1] * p[1]
+                        + c * p[2] * p[2]
+                        + dd * p[0] * p[1]
+                        + e * p[0] * p[2]
+                        + f * p[1] * p[2]
                         + g * p[0]
                         + h * p[1]
                         + i * p[2]
@@ -212,7 +217,11 @@ impl Reference<'_> {
             }
             Shape::Quadric(q) => {
                 let [a, b, c, dd, e, f, g, h, i, _] = q.coefficients().map(|x| x as f64);
-                [2.0 * a * p[0] + dd * p[1] + e * p[2] + g, 2.0 * b * p[1] + dd * p[0] + f * p[2] + h, 2.0 * c * p[2] + e * p[0] + f * p[1] + i]
+                [
+                    2.0 * a * p[0] + dd * p[1] + e * p[2] + g,
+                    2.0 * b * p[1] + dd * p[0] + f * p[2] + h,
+                    2.0 * c * p[2] + e * p[0] + f * p[1] + i,
+                ]
             }
             Shape::Cone(cn) => {
                 let (b, rb, a, ra) = cn.ends();
@@ -449,5 +458,10 @@ fn demo_scene_matches_independent_f64_reference() {
     );
     assert!(stable > (w * h) as usize * 3 / 4, "too few stable pixels to mean anything: {stable}");
     assert!(checked_glass > 50 && checked_mirror > 50);
-    assert!(mismatches.is_empty(), "{} stable pixels differ from the f64 reference by more than 1/255: {:?}", mismatches.len(), &mismatches[..mismatches.len().min(10)]);
+    assert!(
+        mismatches.is_empty(),
+        "{} stable pixels differ from the f64 reference by more than 1/255: {:?}",
+        mismatches.len(),
+        &mismatches[..mismatches.len().min(10)]
+    );
 }

@@ -34,9 +34,17 @@ fn main() {
         match (cf, cx, idf, idx) {
             (Ok(cf), Ok(cx), Ok(idf), Ok(idx)) => {
                 let agree = idf.iter().zip(&idx).filter(|(p, q)| p == q).count() as f64 / idf.len() as f64;
-                println!("{path:40} PSNR {:7.2} dB  ID {:8.4} %  time f32 {tf:.3} s {} {tx:.3} s", psnr(&cf, &cx), agree * 100.0, scalar.name());
+                println!(
+                    "{path:40} PSNR {:7.2} dB  ID {:8.4} %  time f32 {tf:.3} s {} {tx:.3} s",
+                    psnr(&cf, &cx),
+                    agree * 100.0,
+                    scalar.name()
+                );
             }
-            (a, b, c, d) => println!("{path}: error {:?}", [a.err(), b.err(), c.err(), d.err()].iter().flatten().next().map(|e| e.to_string())),
+            (a, b, c, d) => println!(
+                "{path}: error {:?}",
+                [a.err(), b.err(), c.err(), d.err()].iter().flatten().next().map(|e| e.to_string())
+            ),
         }
     }
 }

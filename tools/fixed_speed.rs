@@ -8,8 +8,8 @@
 //! cargo run --release --example fixed_speed -- [WIDTH HEIGHT ROUNDS]
 //! ```
 use raypack::demo::{build_demo_scene_for, demo_camera, demo_camera_for, demo_scene, DemoScene};
-use raypack::Fixed32;
 use raypack::prelude::*;
+use raypack::Fixed32;
 use std::time::Instant;
 
 fn time<S: Scalar, const L: usize>(renderer: &Renderer<'_, S>, img: &mut [Rgb8]) -> (f64, u64) {
@@ -31,13 +31,22 @@ fn main() {
     let mut sx = Box::new(DemoScene::<Fixed32>::new());
     let mut described = Box::new(DemoScene::<f32>::new());
     let frame = build_demo_scene_for(&mut sx, &mut described).unwrap();
-    let rf = Renderer::new(Tracer::<f32>::new(sf.view(), TraceSettings::default()).unwrap(), demo_camera(w, h).unwrap());
-    let rx = Renderer::new(Tracer::<Fixed32>::new(sx.view(), TraceSettings::default()).unwrap(), demo_camera_for(&frame, w, h).unwrap());
+    let rf =
+        Renderer::new(Tracer::<f32>::new(sf.view(), TraceSettings::default()).unwrap(), demo_camera(w, h).unwrap());
+    let rx = Renderer::new(
+        Tracer::<Fixed32>::new(sx.view(), TraceSettings::default()).unwrap(),
+        demo_camera_for(&frame, w, h).unwrap(),
+    );
     let mut img = vec![[0u8; 3]; (w * h) as usize];
     let mut best = [f64::MAX; 4];
     let mut rays = [0u64; 4];
     for _ in 0..rounds {
-        let r = [time::<f32, 1>(&rf, &mut img), time::<f32, 8>(&rf, &mut img), time::<Fixed32, 1>(&rx, &mut img), time::<Fixed32, 8>(&rx, &mut img)];
+        let r = [
+            time::<f32, 1>(&rf, &mut img),
+            time::<f32, 8>(&rf, &mut img),
+            time::<Fixed32, 1>(&rx, &mut img),
+            time::<Fixed32, 8>(&rx, &mut img),
+        ];
         for i in 0..4 {
             best[i] = best[i].min(r[i].0);
             rays[i] = r[i].1;

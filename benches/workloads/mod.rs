@@ -8,8 +8,8 @@ use raypack::dispatch::{Isa, IsaKernel};
 use raypack::lanes::{Lanes, Mask};
 use raypack::prelude::*;
 use raypack::primitives::Shape;
-use raypack::ray::RayPacket;
 use raypack::primitives::Sphere;
+use raypack::ray::RayPacket;
 use raypack::scene::Scene;
 
 /// Packets of primary rays covering a whole image.
@@ -130,19 +130,34 @@ impl<A: Accelerator<f32>, const W: usize> IsaKernel for ScenePass<'_, '_, A, W> 
 /// `Shape` match on its kind, as the tracer calls it) or a sphere alone.
 pub trait Kernel {
     /// Crossings of each active ray in `(0, f32::MAX)`.
-    fn roots<const W: usize>(&self, pool: &[Vec3<f32>], ray: &RayPacket<f32, W>, active: Mask<W>) -> raypack::ray::Roots<f32, W>;
+    fn roots<const W: usize>(
+        &self,
+        pool: &[Vec3<f32>],
+        ray: &RayPacket<f32, W>,
+        active: Mask<W>,
+    ) -> raypack::ray::Roots<f32, W>;
 }
 
 impl Kernel for raypack::scene::Primitive<f32> {
     #[inline(always)]
-    fn roots<const W: usize>(&self, pool: &[Vec3<f32>], ray: &RayPacket<f32, W>, active: Mask<W>) -> raypack::ray::Roots<f32, W> {
+    fn roots<const W: usize>(
+        &self,
+        pool: &[Vec3<f32>],
+        ray: &RayPacket<f32, W>,
+        active: Mask<W>,
+    ) -> raypack::ray::Roots<f32, W> {
         self.shape.roots(pool, ray, Lanes::zero(), Lanes::splat(f32::MAX), active)
     }
 }
 
 impl Kernel for Sphere<f32> {
     #[inline(always)]
-    fn roots<const W: usize>(&self, _: &[Vec3<f32>], ray: &RayPacket<f32, W>, active: Mask<W>) -> raypack::ray::Roots<f32, W> {
+    fn roots<const W: usize>(
+        &self,
+        _: &[Vec3<f32>],
+        ray: &RayPacket<f32, W>,
+        active: Mask<W>,
+    ) -> raypack::ray::Roots<f32, W> {
         Sphere::roots(self, ray, Lanes::zero(), Lanes::splat(f32::MAX), active)
     }
 }
@@ -196,7 +211,12 @@ pub fn sphere_pass<const W: usize>(isa: Isa, spheres: &[Sphere<f32>], packets: &
 
 /// Runs a [`ScenePass`] compiled for `isa` (the queries inlined into it).
 #[inline(never)]
-pub fn scene_pass<A: Accelerator<f32>, const W: usize>(isa: Isa, view: &SceneView<'_, f32>, accel: &A, packets: &Packets<W>) -> u32 {
+pub fn scene_pass<A: Accelerator<f32>, const W: usize>(
+    isa: Isa,
+    view: &SceneView<'_, f32>,
+    accel: &A,
+    packets: &Packets<W>,
+) -> u32 {
     isa.run(ScenePass { view, accel, packets })
 }
 
@@ -210,7 +230,11 @@ pub fn shape_pass<const W: usize>(isa: Isa, view: &SceneView<'_, f32>, packets: 
 /// A full render of `renderer` (single thread, one rectangle) compiled for
 /// `isa`; returns the number of rays traced.
 #[inline(never)]
-pub fn render_pass<A: Accelerator<f32>, const W: usize>(isa: Isa, renderer: &Renderer<'_, f32, A>, img: &mut [Rgb8]) -> u64 {
+pub fn render_pass<A: Accelerator<f32>, const W: usize>(
+    isa: Isa,
+    renderer: &Renderer<'_, f32, A>,
+    img: &mut [Rgb8],
+) -> u64 {
     let mut st = RayStats::default();
     raypack::dispatch::render_rect::<f32, A, 8, W>(isa, renderer, renderer.camera.full_rect(), img, &mut st).unwrap();
     st.total()

@@ -44,17 +44,7 @@ impl<S: Scalar> Cone<S> {
         }
         let w = axis.scale(S::ONE / height);
         let (u, v) = w.orthonormal_basis();
-        Ok(Cone {
-            base,
-            apex,
-            base_radius,
-            apex_radius,
-            u,
-            v,
-            w,
-            height,
-            slope: (apex_radius - base_radius) / height,
-        })
+        Ok(Cone { base, apex, base_radius, apex_radius, u, v, w, height, slope: (apex_radius - base_radius) / height })
     }
 
     /// Change of radius per unit of height, `(r_apex − r_base)/h`.
@@ -87,7 +77,10 @@ impl<S: Scalar> Cone<S> {
     // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
     // the one target without 32-bit atomics), where the copies would not fit
     // a small flash: there each kernel is one function per packet width.
-    #[cfg_attr(all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))), inline(always))]
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
     pub fn roots<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
@@ -151,7 +144,8 @@ impl<S: Scalar> Cone<S> {
         let rel = p.sub_splat(self.base);
         let (x, y, z) = (rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
         let r = Lanes::splat(self.base_radius) + z * self.slope;
-        self.u.splat::<W>().scale_lanes(x) + self.v.splat::<W>().scale_lanes(y) - self.w.splat::<W>().scale_lanes(r * self.slope)
+        self.u.splat::<W>().scale_lanes(x) + self.v.splat::<W>().scale_lanes(y)
+            - self.w.splat::<W>().scale_lanes(r * self.slope)
     }
 
     /// Axis-aligned bounds `(min, max)`: the union of the two end discs.

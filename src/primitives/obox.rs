@@ -77,7 +77,10 @@ impl<S: Scalar> OrientedBox<S> {
     // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
     // the one target without 32-bit atomics), where the copies would not fit
     // a small flash: there each kernel is one function per packet width.
-    #[cfg_attr(all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))), inline(always))]
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
     pub fn roots<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
@@ -109,7 +112,9 @@ impl<S: Scalar> OrientedBox<S> {
         let rel = p.sub_splat(self.center);
         let local = Vec3::new(rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
         let n = face_normals(&local, -self.half, self.half);
-        self.u.splat::<W>().scale_lanes(n.x) + self.v.splat::<W>().scale_lanes(n.y) + self.w.splat::<W>().scale_lanes(n.z)
+        self.u.splat::<W>().scale_lanes(n.x)
+            + self.v.splat::<W>().scale_lanes(n.y)
+            + self.w.splat::<W>().scale_lanes(n.z)
     }
 
     /// Axis-aligned bounds `(min, max)`.

@@ -26,10 +26,7 @@ impl<S: Scalar> Plane<S> {
             return Err(GeometryError::ZeroLengthAxis);
         }
         let inv = S::ONE / len;
-        Ok(Plane {
-            normal: n.scale(inv),
-            d: d * inv,
-        })
+        Ok(Plane { normal: n.scale(inv), d: d * inv })
     }
 
     /// The plane through `point` with normal `normal` (any non-zero length).
@@ -39,16 +36,9 @@ impl<S: Scalar> Plane<S> {
         }
         let n = normal.normalize_or_zero();
         if n == Vec3::ZERO {
-            return Err(if normal.is_finite() {
-                GeometryError::ZeroLengthAxis
-            } else {
-                GeometryError::NonFinite
-            });
+            return Err(if normal.is_finite() { GeometryError::ZeroLengthAxis } else { GeometryError::NonFinite });
         }
-        Ok(Plane {
-            normal: n,
-            d: -n.dot(point),
-        })
+        Ok(Plane { normal: n, d: -n.dot(point) })
     }
 
     /// The same plane in the frame of `sim`, with scalar `T`: with
@@ -70,7 +60,10 @@ impl<S: Scalar> Plane<S> {
     // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
     // the one target without 32-bit atomics), where the copies would not fit
     // a small flash: there each kernel is one function per packet width.
-    #[cfg_attr(all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))), inline(always))]
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
     pub fn roots<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,

@@ -11,8 +11,8 @@
 //! A polygon whose area is zero (collinear or repeated vertices, which real
 //! meshes contain) is kept, so primitive indices stay stable, but never hit.
 
-use super::plane::{moved_offset, plane_crossing};
 use super::error::GeometryError;
+use super::plane::{moved_offset, plane_crossing};
 use crate::lanes::{Lanes, Mask};
 use crate::ray::{RayPacket, Roots};
 use crate::scalar::Scalar;
@@ -84,9 +84,7 @@ impl<S: Scalar> Polygon<S> {
         // Checked: on a 32-bit target `2·count` or `first + slots` can wrap.
         let n_slots = if patch { (count as usize).checked_mul(2) } else { Some(count as usize) };
         let end = n_slots.and_then(|n| (first as usize).checked_add(n));
-        let all = end
-            .and_then(|end| pool.get(first as usize..end))
-            .ok_or(GeometryError::VertexRange)?;
+        let all = end.and_then(|end| pool.get(first as usize..end)).ok_or(GeometryError::VertexRange)?;
         if all.iter().any(|v| !v.is_finite()) {
             return Err(GeometryError::NonFinite);
         }
@@ -133,18 +131,8 @@ impl<S: Scalar> Polygon<S> {
         let axis_v = (drop + 2) % 3;
         let ccw = normal.axis(drop as usize) > S::ZERO;
 
-        let mut poly = Polygon {
-            first,
-            count,
-            patch,
-            convex: false,
-            degenerate,
-            axis_u,
-            axis_v,
-            ccw,
-            normal,
-            d: -normal.dot(o),
-        };
+        let mut poly =
+            Polygon { first, count, patch, convex: false, degenerate, axis_u, axis_v, ccw, normal, d: -normal.dot(o) };
         poly.convex = !degenerate && poly.is_convex_outline(verts);
         Ok(poly)
     }
@@ -163,14 +151,28 @@ impl<S: Scalar> Polygon<S> {
             let a = verts[k % n];
             let b = verts[(k + 1) % n];
             let c = verts[(k + 2) % n];
-            let e1 = (b.axis(self.axis_u as usize) - a.axis(self.axis_u as usize), b.axis(self.axis_v as usize) - a.axis(self.axis_v as usize));
-            let e2 = (c.axis(self.axis_u as usize) - b.axis(self.axis_u as usize), c.axis(self.axis_v as usize) - b.axis(self.axis_v as usize));
+            let e1 = (
+                b.axis(self.axis_u as usize) - a.axis(self.axis_u as usize),
+                b.axis(self.axis_v as usize) - a.axis(self.axis_v as usize),
+            );
+            let e2 = (
+                c.axis(self.axis_u as usize) - b.axis(self.axis_u as usize),
+                c.axis(self.axis_v as usize) - b.axis(self.axis_v as usize),
+            );
             if k < n {
                 let turn = e1.0 * e2.1 - e1.1 * e2.0;
                 pos |= turn > S::ZERO;
                 neg |= turn < S::ZERO;
             }
-            let sgn = |x: S| if x > S::ZERO { 1i8 } else if x < S::ZERO { -1 } else { 0 };
+            let sgn = |x: S| {
+                if x > S::ZERO {
+                    1i8
+                } else if x < S::ZERO {
+                    -1
+                } else {
+                    0
+                }
+            };
             let (su, sv) = (sgn(e1.0), sgn(e1.1));
             if su != 0 {
                 if last_du != 0 && su != last_du && k >= n {
@@ -230,7 +232,10 @@ impl<S: Scalar> Polygon<S> {
     // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
     // the one target without 32-bit atomics), where the copies would not fit
     // a small flash: there each kernel is one function per packet width.
-    #[cfg_attr(all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))), inline(always))]
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
     pub fn roots<const W: usize>(
         &self,
         pool: &[Vec3<S>],
@@ -316,7 +321,9 @@ impl<S: Scalar> Polygon<S> {
         // ratios of degree-2 terms divided by a length, so a common factor
         // scales every weight alike and the normalized result is unchanged.
         let f = if S::NORMALIZE_PRESCALE {
-            let m = verts.iter().fold(S::ZERO, |m, v| m.max((v.axis(iu) - p.axis(iu)).abs()).max((v.axis(iv) - p.axis(iv)).abs()));
+            let m = verts
+                .iter()
+                .fold(S::ZERO, |m, v| m.max((v.axis(iu) - p.axis(iu)).abs()).max((v.axis(iv) - p.axis(iv)).abs()));
             m.normalizing_factor()
         } else {
             S::ONE
@@ -391,9 +398,7 @@ impl<S: Scalar> Polygon<S> {
     pub fn bounds(&self, pool: &[Vec3<S>]) -> (Vec3<S>, Vec3<S>) {
         let verts = self.vertices(pool);
         let first = verts.first().copied().unwrap_or(Vec3::ZERO);
-        verts
-            .iter()
-            .fold((first, first), |(lo, hi), &v| (lo.min_elem(v), hi.max_elem(v)))
+        verts.iter().fold((first, first), |(lo, hi), &v| (lo.min_elem(v), hi.max_elem(v)))
     }
 }
 

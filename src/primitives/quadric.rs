@@ -147,7 +147,13 @@ impl<S: Scalar> Quadric<S> {
     }
 
     /// Ellipsoid with semi-axes `radii` along the orthonormal axes `u, v, w`.
-    pub fn ellipsoid_oriented(center: Vec3<S>, radii: Vec3<S>, u: Vec3<S>, v: Vec3<S>, w: Vec3<S>) -> Result<Self, GeometryError> {
+    pub fn ellipsoid_oriented(
+        center: Vec3<S>,
+        radii: Vec3<S>,
+        u: Vec3<S>,
+        v: Vec3<S>,
+        w: Vec3<S>,
+    ) -> Result<Self, GeometryError> {
         Self::positive(&[radii.x, radii.y, radii.z])?;
         if !center.is_finite() {
             return Err(GeometryError::NonFinite);
@@ -216,14 +222,26 @@ impl<S: Scalar> Quadric<S> {
     /// The value `Q(p)` (zero on the surface).
     pub fn eval(&self, p: Vec3<S>) -> S {
         let [a, b, c, d, e, f, g, h, i, j] = self.k;
-        a * p.x * p.x + b * p.y * p.y + c * p.z * p.z + d * p.x * p.y + e * p.x * p.z + f * p.y * p.z + g * p.x + h * p.y + i * p.z + j
+        a * p.x * p.x
+            + b * p.y * p.y
+            + c * p.z * p.z
+            + d * p.x * p.y
+            + e * p.x * p.z
+            + f * p.y * p.z
+            + g * p.x
+            + h * p.y
+            + i * p.z
+            + j
     }
 
     /// Crossings of each active ray with the (clipped) quadric in `(t_min, t_max)`.
     // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
     // the one target without 32-bit atomics), where the copies would not fit
     // a small flash: there each kernel is one function per packet width.
-    #[cfg_attr(all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))), inline(always))]
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
     pub fn roots<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
@@ -244,7 +262,16 @@ impl<S: Scalar> Quadric<S> {
             + dx * g
             + dy * h
             + dz * i;
-        let cq = ox * ox * a + oy * oy * b + oz * oz * c + ox * oy * d + ox * oz * e + oy * oz * f + ox * g + oy * h + oz * i + Lanes::splat(j);
+        let cq = ox * ox * a
+            + oy * oy * b
+            + oz * oz * c
+            + ox * oy * d
+            + ox * oz * e
+            + oy * oz * f
+            + ox * g
+            + oy * h
+            + oz * i
+            + Lanes::splat(j);
         // Compute the discriminant; with a_q = 0 the equation is linear.
         let four = S::TWO + S::TWO;
         let disc = bq * bq - aq * cq * four;
@@ -306,12 +333,7 @@ impl<S: Scalar> Quadric<S> {
 fn to_matrix<S: Scalar>(k: [S; 10]) -> Mat4<S> {
     let [a, b, c, d, e, f, g, h, i, j] = k;
     let hf = S::HALF;
-    [
-        [a, d * hf, e * hf, g * hf],
-        [d * hf, b, f * hf, h * hf],
-        [e * hf, f * hf, c, i * hf],
-        [g * hf, h * hf, i * hf, j],
-    ]
+    [[a, d * hf, e * hf, g * hf], [d * hf, b, f * hf, h * hf], [e * hf, f * hf, c, i * hf], [g * hf, h * hf, i * hf, j]]
 }
 
 /// Coefficients `[A..J]` of a symmetric matrix (off-diagonal pairs summed).

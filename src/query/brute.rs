@@ -142,12 +142,17 @@ mod tests {
         s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, g).unwrap();
         let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
         let all = Mask::splat(true);
-        let shadow = |s: &Small, far: f32| BruteForce.transmittance(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(far), all).0[0];
+        let shadow = |s: &Small, far: f32| {
+            BruteForce.transmittance(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(far), all).0[0]
+        };
         assert_eq!(shadow(&s, 10.0), 0.25);
         assert_eq!(shadow(&s, 5.0), 0.5);
         s.add_sphere(Vec3::new(0.0, 0.0, 8.0), 0.5, o).unwrap();
         assert_eq!(shadow(&s, 10.0), 0.0);
         // Inactive lanes return 0.
-        assert_eq!(BruteForce.transmittance(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(1.0), Mask::splat(false)).0[0], 0.0);
+        assert_eq!(
+            BruteForce.transmittance(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(1.0), Mask::splat(false)).0[0],
+            0.0
+        );
     }
 }

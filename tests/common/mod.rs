@@ -84,7 +84,8 @@ pub fn random_shape_in<S: Scalar>(rng: &mut Rng, scene: &mut TestSceneOf<S>, k: 
             if rng.below(2) == 0 {
                 scene.add_polygon(&verts_s, mat)
             } else {
-                let normals: Vec<Vec3<S>> = verts.iter().map(|_| cv((n + rng.vec(-0.3, 0.3)).normalize_or_zero())).collect();
+                let normals: Vec<Vec3<S>> =
+                    verts.iter().map(|_| cv((n + rng.vec(-0.3, 0.3)).normalize_or_zero())).collect();
                 scene.add_patch(&verts_s, &normals, mat)
             }
         }
@@ -109,7 +110,11 @@ pub fn random_shape_in<S: Scalar>(rng: &mut Rng, scene: &mut TestSceneOf<S>, k: 
                 _ => Quadric::hyperboloid_two_sheets(cs, axs, f(rng.range(0.2, 1.0)), f(rng.range(0.3, 1.5))),
             }
             .unwrap();
-            let q = if rng.below(2) == 0 { q.with_clip(cv(c - rng.vec(0.5, 2.0)), cv(c + rng.vec(0.5, 2.0))).unwrap() } else { q };
+            let q = if rng.below(2) == 0 {
+                q.with_clip(cv(c - rng.vec(0.5, 2.0)), cv(c + rng.vec(0.5, 2.0))).unwrap()
+            } else {
+                q
+            };
             scene.add_shape(Shape::Quadric(q), mat)
         }
         _ => {
@@ -198,17 +203,37 @@ pub fn random_camera_in<S: Scalar>(rng: &mut Rng, w: u32, h: u32) -> Camera<S> {
 
 /// Renders a whole image with packet width `W`, tile by tile (tiles of
 /// side `tile`, one thread, the baseline instruction set).
-pub fn render<const W: usize>(scene: &SceneView<'_, f32>, camera: Camera<f32>, settings: TraceSettings<f32>, aov: Aov, tile: u32) -> (Vec<Rgb8>, RayStats) {
+pub fn render<const W: usize>(
+    scene: &SceneView<'_, f32>,
+    camera: Camera<f32>,
+    settings: TraceSettings<f32>,
+    aov: Aov,
+    tile: u32,
+) -> (Vec<Rgb8>, RayStats) {
     render_in::<f32, W>(scene, camera, settings, aov, tile)
 }
 
 /// [`render`] for any scalar.
-pub fn render_in<S: Scalar, const W: usize>(scene: &SceneView<'_, S>, camera: Camera<S>, settings: TraceSettings<S>, aov: Aov, tile: u32) -> (Vec<Rgb8>, RayStats) {
+pub fn render_in<S: Scalar, const W: usize>(
+    scene: &SceneView<'_, S>,
+    camera: Camera<S>,
+    settings: TraceSettings<S>,
+    aov: Aov,
+    tile: u32,
+) -> (Vec<Rgb8>, RayStats) {
     render_with(BruteForce, scene, camera, settings, aov, tile, W)
 }
 
 /// [`render_in`] through the accelerator `accel`, with packets of `packet`.
-pub fn render_with<S: Scalar, A: Accelerator<S> + Sync>(accel: A, scene: &SceneView<'_, S>, camera: Camera<S>, settings: TraceSettings<S>, aov: Aov, tile: u32, packet: usize) -> (Vec<Rgb8>, RayStats) {
+pub fn render_with<S: Scalar, A: Accelerator<S> + Sync>(
+    accel: A,
+    scene: &SceneView<'_, S>,
+    camera: Camera<S>,
+    settings: TraceSettings<S>,
+    aov: Aov,
+    tile: u32,
+    packet: usize,
+) -> (Vec<Rgb8>, RayStats) {
     let tracer: Tracer<S, A> = Tracer::with_accelerator(*scene, accel, settings).unwrap();
     let renderer = Renderer { tracer, camera, aov, sampling: Sampling::Centre };
     let tiling = Tiling { packet, isa: Isa::Baseline, threads: 1, tile };

@@ -90,14 +90,20 @@ pub fn run(args: &BenchArgs) -> Result<(), Failure> {
     // One load: the tree is built if any configuration uses it (brute force
     // then simply ignores it).
     let load = if args.accel.contains(&AccelArg::Bvh) { AccelKind::Bvh } else { AccelKind::BruteForce };
-    image::with_scene(&text, args.scalar.kind(), load, |scene| bench_scene(args, scene)).map_err(|e| Failure(format!("{path}: {e}")))?
+    image::with_scene(&text, args.scalar.kind(), load, |scene| bench_scene(args, scene))
+        .map_err(|e| Failure(format!("{path}: {e}")))?
 }
 
 /// The CPU's model name (Linux), for the header.
 fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|m| m.trim().replace('"', "'")))
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().replace('"', "'"))
+        })
         .unwrap_or_else(|| "unknown".into())
 }
 
@@ -145,7 +151,14 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
     packets.dedup();
 
     let accel = match &info.bvh {
-        Some((b, built)) => format!("accel=bvh nodes={} leaves={} depth={} outside={} build_ms={:.3}", b.nodes, b.leaves, b.depth, b.unbounded, built.as_secs_f64() * 1e3),
+        Some((b, built)) => format!(
+            "accel=bvh nodes={} leaves={} depth={} outside={} build_ms={:.3}",
+            b.nodes,
+            b.leaves,
+            b.depth,
+            b.unbounded,
+            built.as_secs_f64() * 1e3
+        ),
         None => "accel=none".into(),
     };
     println!(
@@ -185,8 +198,22 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
                 for &asked_packet in &packets {
                     let (isa, packet) = runs_with(info.scalar, asked, asked_packet);
                     for &t in &threads {
-                        if !configs.iter().any(|c| c.measure == measure && c.accel == accel && c.isa == isa && c.packet == packet && c.threads == t) {
-                            configs.push(Config { measure, accel, isa, packet, threads: t, times: Vec::new(), stats: RayStats::default() });
+                        if !configs.iter().any(|c| {
+                            c.measure == measure
+                                && c.accel == accel
+                                && c.isa == isa
+                                && c.packet == packet
+                                && c.threads == t
+                        }) {
+                            configs.push(Config {
+                                measure,
+                                accel,
+                                isa,
+                                packet,
+                                threads: t,
+                                times: Vec::new(),
+                                stats: RayStats::default(),
+                            });
                         }
                     }
                 }
@@ -199,7 +226,8 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
     for _ in 0..args.rounds {
         for c in configs.iter_mut() {
             let (options, slot) = if c.measure == "primary" { (&primary, 0) } else { (&whitted, 1) };
-            let options = Options { packet: c.packet, isa: c.isa, threads: Some(c.threads as usize), accel: c.accel, ..*options };
+            let options =
+                Options { packet: c.packet, isa: c.isa, threads: Some(c.threads as usize), accel: c.accel, ..*options };
             let img = scene.render(&options, &nothing)?;
             c.times.push(img.time.as_secs_f64());
             c.stats = img.stats;
@@ -237,7 +265,13 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
         }
         let find = |packet: usize, threads: u32| {
             let (isa, packet) = runs_with(info.scalar, c.isa, packet);
-            configs.iter().find(|o| o.measure == c.measure && o.accel == c.accel && o.isa == isa && o.packet == packet && o.threads == threads)
+            configs.iter().find(|o| {
+                o.measure == c.measure
+                    && o.accel == c.accel
+                    && o.isa == isa
+                    && o.packet == packet
+                    && o.threads == threads
+            })
         };
         if let Some(o) = find(1, c.threads) {
             line += &format!(" vs_packet1={:.2}", best(&o.times) / b);

@@ -13,8 +13,8 @@ mod render;
 mod stitch;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use raypack::image::{AccelKind, Options, ScalarKind, MAX_DEPTH};
 use raypack::camera::Rect;
+use raypack::image::{AccelKind, Options, ScalarKind, MAX_DEPTH};
 use raypack::render::{Aov, Sampling};
 use raypack::trace::Mode;
 use std::path::PathBuf;
@@ -144,7 +144,11 @@ pub fn usage_error(msg: impl std::fmt::Display) -> ! {
 
 /// `X,Y,W,H` (W and H at least 1).
 fn parse_region(s: &str) -> Result<Rect, String> {
-    let v: Vec<u32> = s.split(',').map(|f| f.trim().parse::<u32>()).collect::<Result<_, _>>().map_err(|e| format!("`{s}`: {e} (expected X,Y,W,H)"))?;
+    let v: Vec<u32> = s
+        .split(',')
+        .map(|f| f.trim().parse::<u32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("`{s}`: {e} (expected X,Y,W,H)"))?;
     match v[..] {
         [x, y, w, h] if w > 0 && h > 0 => Ok(Rect { x, y, w, h }),
         [_, _, _, _] => Err(format!("`{s}`: width and height must be at least 1")),
@@ -160,7 +164,9 @@ fn sampling(samples: Option<u8>, adaptive: Option<f32>, aov: AovArg) -> Sampling
     match (samples, adaptive) {
         (None | Some(1), None) => Sampling::Centre,
         (Some(n), None) => Sampling::Grid(n),
-        (Some(1), Some(_)) => usage_error("--adaptive needs --samples of at least 2 (the grid of a supersampled pixel)"),
+        (Some(1), Some(_)) => {
+            usage_error("--adaptive needs --samples of at least 2 (the grid of a supersampled pixel)")
+        }
         (n, Some(t)) => Sampling::adaptive(n.unwrap_or(3), t),
     }
 }
@@ -199,7 +205,8 @@ impl RenderArgs {
 pub fn read_scene(path: &std::path::Path) -> Result<String, Failure> {
     if path.as_os_str() == "-" {
         let mut text = String::new();
-        std::io::Read::read_to_string(&mut std::io::stdin().lock(), &mut text).map_err(|e| Failure(format!("standard input: {e}")))?;
+        std::io::Read::read_to_string(&mut std::io::stdin().lock(), &mut text)
+            .map_err(|e| Failure(format!("standard input: {e}")))?;
         return Ok(text);
     }
     std::fs::read_to_string(path).map_err(|e| Failure(format!("{}: {e}", path.display())))

@@ -100,13 +100,26 @@ impl Sink {
         }
         let format = match (Format::of_path(path), format) {
             (Some(a), Some(b)) if a != b => {
-                return Err(Failure(format!("{}: the extension says {} but --format says {}", path.display(), a.name(), b.name())))
+                return Err(Failure(format!(
+                    "{}: the extension says {} but --format says {}",
+                    path.display(),
+                    a.name(),
+                    b.name()
+                )))
             }
             (Some(f), _) | (None, Some(f)) => f,
-            (None, None) => return Err(Failure(format!("{}: unknown output format (use a .ppm or .png file name, or --format)", path.display()))),
+            (None, None) => {
+                return Err(Failure(format!(
+                    "{}: unknown output format (use a .ppm or .png file name, or --format)",
+                    path.display()
+                )))
+            }
         };
         if no_clobber && path.exists() {
-            return Err(Failure(format!("{}: already exists (use --force to overwrite it, or -o to name the output)", path.display())));
+            return Err(Failure(format!(
+                "{}: already exists (use --force to overwrite it, or -o to name the output)",
+                path.display()
+            )));
         }
         PendingImage::create(path, format, no_clobber).map(Sink::File)
     }
@@ -177,7 +190,14 @@ impl PendingImage {
     }
 }
 
-fn encode(w: &mut impl Write, format: Format, width: u32, height: u32, pixels: &[Rgb8], region: Option<&Region>) -> Result<(), Box<dyn std::error::Error>> {
+fn encode(
+    w: &mut impl Write,
+    format: Format,
+    width: u32,
+    height: u32,
+    pixels: &[Rgb8],
+    region: Option<&Region>,
+) -> Result<(), Box<dyn std::error::Error>> {
     match format {
         Format::Ppm => write_ppm(w, width, height, pixels, region)?,
         Format::Png => write_png(w, width, height, pixels, region)?,
@@ -187,7 +207,13 @@ fn encode(w: &mut impl Write, format: Format, width: u32, height: u32, pixels: &
 
 /// Binary PPM: `P6\n[# raypack-region …\n]<w> <h>\n255\n` then RGB bytes,
 /// rows top to bottom.
-pub fn write_ppm(w: &mut impl Write, width: u32, height: u32, pixels: &[Rgb8], region: Option<&Region>) -> std::io::Result<()> {
+pub fn write_ppm(
+    w: &mut impl Write,
+    width: u32,
+    height: u32,
+    pixels: &[Rgb8],
+    region: Option<&Region>,
+) -> std::io::Result<()> {
     w.write_all(b"P6\n")?;
     if let Some(r) = region {
         writeln!(w, "# {REGION_KEY} {}", r.text())?;
@@ -199,7 +225,13 @@ pub fn write_ppm(w: &mut impl Write, width: u32, height: u32, pixels: &[Rgb8], r
 /// 8-bit RGB PNG (with a `raypack-region` text chunk for a part), with
 /// the fast compression: the balanced one costs a 512² render a third of
 /// its whole process for files 15–35 % smaller (docs/cli.md).
-pub fn write_png(w: &mut impl Write, width: u32, height: u32, pixels: &[Rgb8], region: Option<&Region>) -> Result<(), png::EncodingError> {
+pub fn write_png(
+    w: &mut impl Write,
+    width: u32,
+    height: u32,
+    pixels: &[Rgb8],
+    region: Option<&Region>,
+) -> Result<(), png::EncodingError> {
     let mut enc = png::Encoder::new(w, width, height);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
@@ -229,7 +261,12 @@ pub fn read_image(bytes: &[u8]) -> Result<Decoded, String> {
         if (info.color_type, info.bit_depth) != (png::ColorType::Rgb, png::BitDepth::Eight) {
             return Err("not an 8-bit RGB PNG".into());
         }
-        let region = info.uncompressed_latin1_text.iter().find(|t| t.keyword == REGION_KEY).map(|t| Region::parse(&t.text).ok_or(format!("malformed {REGION_KEY} text `{}`", t.text))).transpose()?;
+        let region = info
+            .uncompressed_latin1_text
+            .iter()
+            .find(|t| t.keyword == REGION_KEY)
+            .map(|t| Region::parse(&t.text).ok_or(format!("malformed {REGION_KEY} text `{}`", t.text)))
+            .transpose()?;
         let (width, height) = (info.width, info.height);
         let size = reader.output_buffer_size().ok_or("image too large")?;
         let mut pixels = vec![0; size];
@@ -252,14 +289,19 @@ pub fn read_image(bytes: &[u8]) -> Result<Decoded, String> {
                 let end = bytes[at..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |i| at + i);
                 let comment = String::from_utf8_lossy(&bytes[at + 1..end]);
                 if let Some(text) = comment.trim().strip_prefix(REGION_KEY) {
-                    region = Some(Region::parse(text).ok_or(format!("malformed {REGION_KEY} comment `{}`", comment.trim()))?);
+                    region = Some(
+                        Region::parse(text).ok_or(format!("malformed {REGION_KEY} comment `{}`", comment.trim()))?,
+                    );
                 }
                 at = end;
             }
             Some(b) if b.is_ascii_whitespace() => at += 1,
             Some(_) => {
                 let end = bytes[at..].iter().position(|b| !b.is_ascii_digit()).map_or(bytes.len(), |i| at + i);
-                let v = std::str::from_utf8(&bytes[at..end]).ok().and_then(|s| s.parse::<u32>().ok()).ok_or("bad number in the PPM header")?;
+                let v = std::str::from_utf8(&bytes[at..end])
+                    .ok()
+                    .and_then(|s| s.parse::<u32>().ok())
+                    .ok_or("bad number in the PPM header")?;
                 fields.push(v);
                 at = end;
             }

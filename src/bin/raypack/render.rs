@@ -17,9 +17,9 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     // --force.
     let (path, no_clobber) = match &args.output {
         Some(p) => (p.clone(), false),
-        None if args.scene.as_os_str() == "-" => {
-            crate::usage_error("the scene comes from standard input: name the output with -o FILE (or -o - for standard output)")
-        }
+        None if args.scene.as_os_str() == "-" => crate::usage_error(
+            "the scene comes from standard input: name the output with -o FILE (or -o - for standard output)",
+        ),
         None => {
             let stem = args.scene.file_stem().map_or_else(|| "raypack".into(), |s| s.to_os_string());
             let mut name = std::path::PathBuf::from(stem);
@@ -31,10 +31,15 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
     let sink = Sink::create(&path, args.format, no_clobber)?;
     let text = crate::read_scene(&args.scene)?;
     let name = crate::scene_name(&args.scene);
-    let (img, info) = image::with_scene(&text, options.scalar, options.accel, |scene| render_scene(args, &options, scene))
-        .map_err(|e| Failure(format!("{name}: {e}")))?;
+    let (img, info) =
+        image::with_scene(&text, options.scalar, options.accel, |scene| render_scene(args, &options, scene))
+            .map_err(|e| Failure(format!("{name}: {e}")))?;
     let img = img.map_err(|e| Failure(format!("{name}: {e}")))?;
-    let region = options.region.map(|rect| Region { rect, full: img.full_size, render: render_hash(&text, &options, img.full_size) });
+    let region = options.region.map(|rect| Region {
+        rect,
+        full: img.full_size,
+        render: render_hash(&text, &options, img.full_size),
+    });
     let out_name = sink.name();
     sink.finish(img.width, img.height, &img.pixels, region.as_ref())?;
     if !args.quiet {
@@ -104,7 +109,10 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
 fn render_hash(text: &str, o: &image::Options, full: (u32, u32)) -> String {
     let mut h = Fnv1a::new();
     h.write(text.as_bytes());
-    h.write(format!("\0{}x{} {:?} {} {:?} {:?} {:?}", full.0, full.1, o.mode, o.depth, o.aov, o.scalar, o.sampling).as_bytes());
+    h.write(
+        format!("\0{}x{} {:?} {} {:?} {:?} {:?}", full.0, full.1, o.mode, o.depth, o.aov, o.scalar, o.sampling)
+            .as_bytes(),
+    );
     format!("{:08x}", h.finish())
 }
 
@@ -120,24 +128,34 @@ pub fn warn_degenerate(args_scene: &std::path::Path, info: &image::SceneInfo, qu
     }
 }
 
-fn render_scene(args: &RenderArgs, options: &image::Options, scene: &dyn LoadedScene) -> (Result<image::Image, image::Error>, image::SceneInfo) {
+fn render_scene(
+    args: &RenderArgs,
+    options: &image::Options,
+    scene: &dyn LoadedScene,
+) -> (Result<image::Image, image::Error>, image::SceneInfo) {
     let info = *scene.info();
     warn_degenerate(&args.scene, &info, args.quiet);
-    let size = info.nff.camera.map_or((1, 1), |c| image::image_size(options.width, options.height, (c.width, c.height)));
+    let size =
+        info.nff.camera.map_or((1, 1), |c| image::image_size(options.width, options.height, (c.width, c.height)));
     let full = raypack::camera::Rect { x: 0, y: 0, w: size.0, h: size.1 };
     let count = image::tile_count(options.region.unwrap_or(full), TILE);
 
     // Progress on stderr, shown only once a render has run for a second,
     // and only to a terminal.
     let bar = ProgressBar::with_draw_target(Some(count), ProgressDrawTarget::hidden());
-    if let Ok(style) = ProgressStyle::with_template("{spinner} {elapsed_precise} [{bar:40}] {percent:>3}% ({eta} left)") {
+    if let Ok(style) = ProgressStyle::with_template("{spinner} {elapsed_precise} [{bar:40}] {percent:>3}% ({eta} left)")
+    {
         bar.set_style(style.progress_chars("=> "));
     }
     let show_bar = !args.quiet && std::io::stderr().is_terminal();
     let shown = AtomicBool::new(false);
     let start = Instant::now();
     let done = || {
-        if show_bar && !shown.load(Ordering::Relaxed) && start.elapsed() > Duration::from_secs(1) && !shown.swap(true, Ordering::Relaxed) {
+        if show_bar
+            && !shown.load(Ordering::Relaxed)
+            && start.elapsed() > Duration::from_secs(1)
+            && !shown.swap(true, Ordering::Relaxed)
+        {
             bar.set_draw_target(ProgressDrawTarget::stderr());
         }
         bar.inc(1);

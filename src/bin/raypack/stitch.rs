@@ -39,7 +39,10 @@ pub fn run(args: &StitchArgs) -> Result<(), Failure> {
         };
         let r = region.rect;
         if (part.width, part.height) != (r.w, r.h) {
-            return Err(Failure(format!("{name}: {}x{} pixels, but its region says {}x{}", part.width, part.height, r.w, r.h)));
+            return Err(Failure(format!(
+                "{name}: {}x{} pixels, but its region says {}x{}",
+                part.width, part.height, r.w, r.h
+            )));
         }
         let (fw, fh) = region.full;
         match &frame {
@@ -51,15 +54,24 @@ pub fn run(args: &StitchArgs) -> Result<(), Failure> {
             }
             Some((first, first_name)) => {
                 if first.full != region.full {
-                    return Err(Failure(format!("{name}: part of a {fw}x{fh} image, but {first_name} of a {}x{} one", first.full.0, first.full.1)));
+                    return Err(Failure(format!(
+                        "{name}: part of a {fw}x{fh} image, but {first_name} of a {}x{} one",
+                        first.full.0, first.full.1
+                    )));
                 }
                 if first.render != region.render {
-                    return Err(Failure(format!("{name}: part of another render than {first_name} (render {} vs {}: scene or options differ)", region.render, first.render)));
+                    return Err(Failure(format!(
+                        "{name}: part of another render than {first_name} (render {} vs {}: scene or options differ)",
+                        region.render, first.render
+                    )));
                 }
             }
         }
         if r.w == 0 || r.h == 0 || r.x as u64 + r.w as u64 > fw as u64 || r.y as u64 + r.h as u64 > fh as u64 {
-            return Err(Failure(format!("{name}: region {},{},{},{} is not inside the {fw}x{fh} image", r.x, r.y, r.w, r.h)));
+            return Err(Failure(format!(
+                "{name}: region {},{},{},{} is not inside the {fw}x{fh} image",
+                r.x, r.y, r.w, r.h
+            )));
         }
         for row in 0..r.h {
             let y = (r.y + row) as usize;

@@ -36,7 +36,14 @@ pub struct BuildSettings {
 
 impl Default for BuildSettings {
     fn default() -> Self {
-        BuildSettings { bins: 16, max_leaf: 4, traversal_cost: 1.0, intersection_cost: 1.0, reach: 0.0, max_depth: MAX_DEPTH as u32 }
+        BuildSettings {
+            bins: 16,
+            max_leaf: 4,
+            traversal_cost: 1.0,
+            intersection_cost: 1.0,
+            reach: 0.0,
+            max_depth: MAX_DEPTH as u32,
+        }
     }
 }
 
@@ -74,11 +81,7 @@ impl Aabb {
         dx * dy + dy * dz + dz * dx
     }
     fn centroid(&self) -> [f32; 3] {
-        [
-            (self.min[0] + self.max[0]) * 0.5,
-            (self.min[1] + self.max[1]) * 0.5,
-            (self.min[2] + self.max[2]) * 0.5,
-        ]
+        [(self.min[0] + self.max[0]) * 0.5, (self.min[1] + self.max[1]) * 0.5, (self.min[2] + self.max[2]) * 0.5]
     }
 }
 
@@ -142,13 +145,22 @@ fn box_to_node<S: Scalar>(b: &Aabb) -> (Vec3<S>, Vec3<S>) {
 
 /// Builds the tree of `scene` into `nodes` (flat, pairs) and `order`
 /// (exactly the scene's primitive count long). The caller checked capacity.
-pub(super) fn build<S: Scalar>(scene: &SceneView<'_, S>, settings: &BuildSettings, nodes: &mut [BvhNode<S>], order: &mut [u32]) -> BvhStats {
+pub(super) fn build<S: Scalar>(
+    scene: &SceneView<'_, S>,
+    settings: &BuildSettings,
+    nodes: &mut [BvhNode<S>],
+    order: &mut [u32],
+) -> BvhStats {
     let n = order.len();
     let bins = (settings.bins as usize).clamp(2, MAX_BINS);
     let max_leaf = settings.max_leaf.max(1);
     let max_depth = (settings.max_depth as usize).min(MAX_DEPTH);
     let c_trav = if settings.traversal_cost.is_finite() { settings.traversal_cost.max(0.0) } else { 1.0 };
-    let c_isect = if settings.intersection_cost.is_finite() && settings.intersection_cost > 0.0 { settings.intersection_cost } else { 1.0 };
+    let c_isect = if settings.intersection_cost.is_finite() && settings.intersection_cost > 0.0 {
+        settings.intersection_cost
+    } else {
+        1.0
+    };
 
     // Bounded primitives first (index order), then the unbounded ones; and
     // the scene's scale for the padding.

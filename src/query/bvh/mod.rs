@@ -52,7 +52,6 @@ pub use node::{BvhNode, BvhStats, MAX_DEPTH};
 // indices + the stats, on 32- and 64-bit targets alike.
 const _: () = assert!(core::mem::size_of::<Bvh<f32, 16>>() == 2 * 16 * 32 + 16 * 4 + 24);
 
-
 /// The scene has more primitives than the BVH capacity `N`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BvhError {
@@ -89,7 +88,11 @@ impl<S: Scalar, const N: usize> Default for Bvh<S, N> {
 impl<S: Scalar, const N: usize> Bvh<S, N> {
     /// An empty tree (usable as a `static`).
     pub const fn new() -> Self {
-        Bvh { nodes: [[BvhNode::EMPTY; 2]; N], order: [0; N], stats: BvhStats { primitives: 0, unbounded: 0, nodes: 0, leaves: 0, depth: 0, max_leaf: 0 } }
+        Bvh {
+            nodes: [[BvhNode::EMPTY; 2]; N],
+            order: [0; N],
+            stats: BvhStats { primitives: 0, unbounded: 0, nodes: 0, leaves: 0, depth: 0, max_leaf: 0 },
+        }
     }
 
     /// Builds the tree for `scene` with the default settings, in place (no

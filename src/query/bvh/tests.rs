@@ -67,13 +67,20 @@ fn check_structure<const N: usize>(scene: &SceneView<'_, f32>, bvh: &Bvh<f32, N>
     let mut seen = vec![0u32; n];
     for &k in tree.unbounded() {
         seen[k as usize] += 1;
-        assert!(scene.primitives()[k as usize].shape.bounds(scene.vertices()).is_none(), "bounded primitive {k} outside the tree");
+        assert!(
+            scene.primitives()[k as usize].shape.bounds(scene.vertices()).is_none(),
+            "bounded primitive {k} outside the tree"
+        );
     }
     // Unbounded list in index order.
     assert!(tree.unbounded().windows(2).all(|w| w[0] < w[1]));
     let inside = |inner: (Vec3<f32>, Vec3<f32>), outer: &BvhNode<f32>| {
-        inner.0.x >= outer.min.x && inner.0.y >= outer.min.y && inner.0.z >= outer.min.z
-            && inner.1.x <= outer.max.x && inner.1.y <= outer.max.y && inner.1.z <= outer.max.z
+        inner.0.x >= outer.min.x
+            && inner.0.y >= outer.min.y
+            && inner.0.z >= outer.min.z
+            && inner.1.x <= outer.max.x
+            && inner.1.y <= outer.max.y
+            && inner.1.z <= outer.max.z
     };
     let (mut nodes, mut leaves, mut max_depth) = (0u32, 0u32, 0u32);
     if !tree.nodes().is_empty() {
@@ -89,7 +96,10 @@ fn check_structure<const N: usize>(scene: &SceneView<'_, f32>, bvh: &Bvh<f32, N>
                 assert!(ids.windows(2).all(|w| w[0] < w[1]), "leaf not in index order");
                 for &k in ids {
                     seen[k as usize] += 1;
-                    let b = scene.primitives()[k as usize].shape.bounds(scene.vertices()).expect("unbounded primitive in a leaf");
+                    let b = scene.primitives()[k as usize]
+                        .shape
+                        .bounds(scene.vertices())
+                        .expect("unbounded primitive in a leaf");
                     assert!(inside(b, &node), "primitive {k} sticks out of its leaf");
                 }
             } else {
@@ -127,7 +137,11 @@ fn compare_queries(scene: &SceneView<'_, f32>, tree_view: &BvhView<'_, f32>, see
         let far = rng.range(1.0, 60.0);
         check::<8>(scene, tree_view, &ray8, ok8, far, &mut hits);
         for h in 0..2 {
-            let mut ray4 = RayPacket::<f32, 4>::new(Vec3::new(Lanes::splat(0.0), Lanes::splat(0.0), Lanes::splat(0.0)), Vec3::new(Lanes::splat(1.0), Lanes::splat(0.0), Lanes::splat(0.0))).0;
+            let mut ray4 = RayPacket::<f32, 4>::new(
+                Vec3::new(Lanes::splat(0.0), Lanes::splat(0.0), Lanes::splat(0.0)),
+                Vec3::new(Lanes::splat(1.0), Lanes::splat(0.0), Lanes::splat(0.0)),
+            )
+            .0;
             for l in 0..4 {
                 ray4.origin.set_lane(l, ray8.origin.lane(4 * h + l));
                 ray4.dir.set_lane(l, ray8.dir.lane(4 * h + l));
@@ -136,14 +150,24 @@ fn compare_queries(scene: &SceneView<'_, f32>, tree_view: &BvhView<'_, f32>, see
         }
         for l in 0..8 {
             let r = ray8.lane(l);
-            let r1 = Ray { origin: Vec3::new(Lanes([r.origin.x.0[0]]), Lanes([r.origin.y.0[0]]), Lanes([r.origin.z.0[0]])), dir: Vec3::new(Lanes([r.dir.x.0[0]]), Lanes([r.dir.y.0[0]]), Lanes([r.dir.z.0[0]])) };
+            let r1 = Ray {
+                origin: Vec3::new(Lanes([r.origin.x.0[0]]), Lanes([r.origin.y.0[0]]), Lanes([r.origin.z.0[0]])),
+                dir: Vec3::new(Lanes([r.dir.x.0[0]]), Lanes([r.dir.y.0[0]]), Lanes([r.dir.z.0[0]])),
+            };
             check::<1>(scene, tree_view, &r1, Mask::splat(true), far, &mut hits);
         }
     }
     hits
 }
 
-fn check<const W: usize>(scene: &SceneView<'_, f32>, tree: &BvhView<'_, f32>, ray: &RayPacket<f32, W>, active: Mask<W>, far: f32, hits: &mut usize) {
+fn check<const W: usize>(
+    scene: &SceneView<'_, f32>,
+    tree: &BvhView<'_, f32>,
+    ray: &RayPacket<f32, W>,
+    active: Mask<W>,
+    far: f32,
+    hits: &mut usize,
+) {
     let zero = Lanes::splat(0.0);
     assert_eq!(tree.check(scene), Ok(()));
     let a = BruteForce.closest_hit(scene, ray, zero, Lanes::splat(f32::MAX), active);
@@ -175,7 +199,10 @@ fn builder_invariants_on_scattered_scenes() {
         again.build(&scene.view()).unwrap();
         assert_eq!(bvh.view().nodes(), again.view().nodes());
         assert_eq!(bvh.view().order(), again.view().order());
-        for settings in [BuildSettings { max_leaf: 1, ..BuildSettings::default() }, BuildSettings { bins: 2, max_leaf: 16, traversal_cost: 0.1, ..BuildSettings::default() }] {
+        for settings in [
+            BuildSettings { max_leaf: 1, ..BuildSettings::default() },
+            BuildSettings { bins: 2, max_leaf: 16, traversal_cost: 0.1, ..BuildSettings::default() },
+        ] {
             bvh.build_with(&scene.view(), &settings).unwrap();
             check_structure(&scene.view(), &bvh);
         }
@@ -211,7 +238,9 @@ fn depth_is_bounded_and_deep_leaves_still_answer() {
         x *= 2.5;
     }
     let mut bvh: Bvh<f32, 256> = Bvh::new();
-    let stats = bvh.build_with(&s.view(), &BuildSettings { bins: 2, max_leaf: 1, max_depth: 12, ..BuildSettings::default() }).unwrap();
+    let stats = bvh
+        .build_with(&s.view(), &BuildSettings { bins: 2, max_leaf: 1, max_depth: 12, ..BuildSettings::default() })
+        .unwrap();
     assert_eq!(stats.depth, 12, "{stats:?}");
     assert!(stats.max_leaf > 4, "the depth limit made a big leaf: {stats:?}");
     check_structure(&s.view(), &bvh);
@@ -242,14 +271,14 @@ fn equal_distance_goes_to_the_lower_index_across_leaves() {
     let mut bvh: Bvh<f32, 256> = Bvh::new();
     bvh.build_with(&s.view(), &BuildSettings { max_leaf: 1, ..BuildSettings::default() }).unwrap();
     let tree = bvh.view();
-    let leaf_of = |k: u32| {
-        tree.nodes().iter().position(|n| n.is_leaf() && tree.leaf_primitives(n).contains(&k))
-    };
+    let leaf_of = |k: u32| tree.nodes().iter().position(|n| n.is_leaf() && tree.leaf_primitives(n).contains(&k));
     assert_ne!(leaf_of(0), leaf_of(31), "the two boxes must be in different leaves");
     let ray = Ray::single(Vec3::new(-5.0, 0.5, 0.5), Vec3::new(1.0, 0.0, 0.0)).unwrap();
     let zero = Lanes::splat(0.0);
     // The tie is real: each box alone gives the same t.
-    let only = |k: usize| s.view().primitives()[k].shape.roots(&[], &ray, zero, Lanes::splat(f32::MAX), Mask::splat(true)).t0.0[0];
+    let only = |k: usize| {
+        s.view().primitives()[k].shape.roots(&[], &ray, zero, Lanes::splat(f32::MAX), Mask::splat(true)).t0.0[0]
+    };
     assert_eq!(only(0).to_bits(), only(31).to_bits());
     let h = tree.closest_hit(&s.view(), &ray, zero, Lanes::splat(f32::MAX), Mask::splat(true));
     assert_eq!(h.prim[0], 0);
@@ -277,7 +306,13 @@ fn many_transmissive_crossings_fall_back_exactly() {
         let ray = Ray::single(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)).unwrap();
         check::<1>(&s.view(), &tree, &ray, Mask::splat(true), far, &mut hits);
     }
-    let t = tree.transmittance(&s.view(), &Ray::single(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)).unwrap(), Lanes::splat(0.0), Lanes::splat(100.0), Mask::splat(true));
+    let t = tree.transmittance(
+        &s.view(),
+        &Ray::single(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)).unwrap(),
+        Lanes::splat(0.0),
+        Lanes::splat(100.0),
+        Mask::splat(true),
+    );
     assert!(t.0[0] > 0.0 && t.0[0] < 0.1, "{:?}", t.0);
 }
 

@@ -168,7 +168,11 @@ fn walk<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(
                     leaf_mask = m;
                 } else {
                     let first = n.link();
-                    let (near, far) = if slab.dir_neg.get(n.axis()).copied().unwrap_or(false) { (first + 1, first) } else { (first, first + 1) };
+                    let (near, far) = if slab.dir_neg.get(n.axis()).copied().unwrap_or(false) {
+                        (first + 1, first)
+                    } else {
+                        (first, first + 1)
+                    };
                     if stack.push(far).is_ok() {
                         next = Some(near);
                         continue;
@@ -295,7 +299,8 @@ impl<S: Scalar> Accelerator<S> for BvhView<'_, S> {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Hit<S, W> {
-        let mut q = ClosestHit { scene, ray, t_min, active, best_t: t_max, best_id: [u32::MAX; W], found: Mask::splat(false) };
+        let mut q =
+            ClosestHit { scene, ray, t_min, active, best_t: t_max, best_id: [u32::MAX; W], found: Mask::splat(false) };
         if active.any() {
             // Primitives outside the tree first, then the tree.
             let slab = SlabRays::new(ray, active);
@@ -318,15 +323,7 @@ impl<S: Scalar> Accelerator<S> for BvhView<'_, S> {
             return zero;
         }
         let mut records = Records::<W>::new();
-        let mut q = Shadow {
-            scene,
-            ray,
-            t_min,
-            t_max,
-            live: active,
-            records: &mut records,
-            overflow: false,
-        };
+        let mut q = Shadow { scene, ray, t_min, t_max, live: active, records: &mut records, overflow: false };
         // Primitives outside the tree first, then the tree.
         let slab = SlabRays::new(ray, active);
         walk(self, &slab, t_min, active, &mut q);
