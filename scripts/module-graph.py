@@ -2,7 +2,8 @@
 """The module graph of raypack's library (src/, not the CLI): which module
 uses which, from the `crate::…`, `super::…` and `self::…` paths in each
 file's code (doc comments and test modules left out). Fails (exit 1) if the
-graph has a cycle, and prints it.
+graph has a cycle, and prints it; also fails if a module uses one of a
+higher layer (the top-level folders of src/, bottom to top: LAYERS).
 
     ./scripts/module-graph.py            # edges, then "acyclic" or the cycles
     ./scripts/module-graph.py --dot      # Graphviz
@@ -17,6 +18,10 @@ not count as using them. Declarations (`mod x;`) are not uses.
 import os
 import re
 import sys
+
+# The top-level folders of src/, bottom to top: a module may use its own
+# layer and those below it, never one above (an "upward arrow").
+LAYERS = ["num", "geom", "scene", "query", "trace", "render", "host"]
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src")
 
@@ -136,7 +141,16 @@ def main():
         for c in cycles:
             print("CYCLE: " + " -> ".join(name(x) for x in c + [c[0]]))
         return 1
-    print(f"acyclic: {len(mods)} modules, {len(edges)} edges")
+    unknown = sorted({m[0] for m in mods if m and m[0] not in LAYERS})
+    if unknown:
+        print("NOT IN A LAYER: " + ", ".join(unknown) + " (scripts/module-graph.py LAYERS)")
+        return 1
+    upward = sorted((a, b) for a, b in edges if a and b and LAYERS.index(a[0]) < LAYERS.index(b[0]))
+    if upward:
+        for a, b in upward:
+            print(f"UPWARD: {name(a)} -> {name(b)}")
+        return 1
+    print(f"acyclic, no upward arrow: {len(mods)} modules in {len(LAYERS)} layers, {len(edges)} edges")
     return 0
 
 

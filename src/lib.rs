@@ -49,53 +49,48 @@
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
-pub mod camera;
-pub mod demo;
-// Drawing into embedded-graphics displays, band by band (feature `embedded-graphics`).
-#[cfg(feature = "embedded-graphics")]
-pub mod draw_target;
-pub mod fixed;
-pub mod fixed32;
-pub mod lanes;
-pub mod nff;
-pub mod output;
-pub mod pow;
-pub mod primitives;
-pub mod query;
-pub mod range;
-pub mod ray;
-pub mod render;
-pub mod scalar;
+// The layers, bottom to top; a module uses only its own layer and those below
+// (scripts/module-graph.py checks it).
+pub mod num;
+pub mod geom;
 pub mod scene;
-pub mod similarity;
+pub mod query;
 pub mod trace;
-pub mod vec3;
-
-#[cfg(test)]
-mod test_rng;
-
-// Run-time instruction-set dispatch (std only; the one module allowed `unsafe`).
+pub mod render;
 #[cfg(feature = "std")]
-pub mod dispatch;
-// From NFF text to pixels in one call, on threads (std only).
-#[cfg(feature = "std")]
-pub mod image;
+pub mod host;
 
-pub use fixed::Fixed;
-pub use fixed32::Fixed32;
+// The paths of the flat layout, kept working for users.
+#[doc(hidden)]
+pub use geom::{camera, fixed_range as range, primitives, ray, uniform_scale as similarity, vec3};
 #[cfg(feature = "std")]
-pub use image::{Image, Options};
-pub use scalar::Scalar;
+#[doc(hidden)]
+pub use host::{dispatch, image};
+#[doc(hidden)]
+pub use num::{fixed32, fixed64 as fixed, lanes, scalar, unit_pow as pow};
+#[cfg(feature = "embedded-graphics")]
+#[doc(hidden)]
+pub use render::draw_target;
+#[doc(hidden)]
+pub use render::bands as output;
+#[doc(hidden)]
+pub use scene::{demo, nff};
+
+#[cfg(feature = "std")]
+pub use host::image::{Image, Options};
+pub use num::fixed32::Fixed32;
+pub use num::fixed64::Fixed;
+pub use num::scalar::Scalar;
 
 /// The types most programs need.
 pub mod prelude {
-    pub use crate::camera::{Camera, CameraError, Rect};
-    pub use crate::fixed::Fixed;
-    pub use crate::primitives::Quadric;
+    pub use crate::geom::camera::{Camera, CameraError, Rect};
+    pub use crate::num::fixed64::Fixed;
+    pub use crate::geom::primitives::Quadric;
     pub use crate::query::{AccelChoice, Accelerator, BruteForce, BuildSettings, Bvh, BvhError, BvhView};
     pub use crate::render::{Aov, Renderer, Rgb8, Sampling};
-    pub use crate::scalar::Scalar;
+    pub use crate::num::scalar::Scalar;
     pub use crate::scene::{Material, Scene, SceneError, SceneView};
     pub use crate::trace::{Mode, RayStats, TraceError, TraceSettings, Tracer};
-    pub use crate::vec3::Vec3;
+    pub use crate::geom::vec3::Vec3;
 }

@@ -3,7 +3,7 @@
 //! and for `Fixed32`, by rendering through a scalar that wraps each one and
 //! counts every operation: what an FPU-less core pays per frame is roughly
 //! the sum of count × cost per operation (soft-float calls for `f32`,
-//! inline integer code or calls for `Fixed32`; see `src/fixed32.rs` for the
+//! inline integer code or calls for `Fixed32`; see `src/num/fixed32.rs` for the
 //! measured cost of each).
 //!
 //! `cargo run --release --example op_count`

@@ -1,9 +1,9 @@
 //! The interface every accelerator implements, and the result of a
 //! closest-hit query.
 
-use crate::lanes::{Lanes, Mask};
-use crate::ray::RayPacket;
-use crate::scalar::Scalar;
+use crate::num::lanes::{Lanes, Mask};
+use crate::geom::ray::RayPacket;
+use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 
 /// Per-lane result of a closest-hit query.

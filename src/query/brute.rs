@@ -4,9 +4,9 @@
 //! no tree code in the image).
 
 use super::accelerator::{Accelerator, Hit};
-use crate::lanes::{Lanes, Mask};
-use crate::ray::RayPacket;
-use crate::scalar::Scalar;
+use crate::num::lanes::{Lanes, Mask};
+use crate::geom::ray::RayPacket;
+use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 
 /// Tests every primitive of the scene, in index order.
@@ -114,7 +114,7 @@ pub(crate) fn transmittance<S: Scalar, const W: usize>(
 mod tests {
     use super::*;
     use crate::scene::{Material, Scene};
-    use crate::vec3::Vec3;
+    use crate::geom::vec3::Vec3;
 
     type Small = Scene<f32, 4, 8, 2, 1>;
 
@@ -125,7 +125,7 @@ mod tests {
         s.add_sphere(Vec3::new(0.0, 0.0, 10.0), 1.0, m).unwrap();
         s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, m).unwrap();
         s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, m).unwrap(); // same surface as 1
-        let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
+        let ray = crate::geom::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
         let h = BruteForce.closest_hit(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(f32::MAX), Mask::splat(true));
         assert!(h.mask.get(0));
         assert_eq!(h.prim[0], 1);
@@ -140,7 +140,7 @@ mod tests {
         let g = s.add_material(glass).unwrap();
         let o = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
         s.add_sphere(Vec3::new(0.0, 0.0, 5.0), 1.0, g).unwrap();
-        let ray = crate::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
+        let ray = crate::geom::ray::Ray::single(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0)).unwrap();
         let all = Mask::splat(true);
         let shadow = |s: &Small, far: f32| {
             BruteForce.transmittance(&s.view(), &ray, Lanes::splat(0.0), Lanes::splat(far), all).0[0]

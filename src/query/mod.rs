@@ -15,7 +15,7 @@
 //!
 //! The accelerator is a type parameter of the tracer, so the choice costs
 //! nothing at run time and code that is never chosen is never compiled. The
-//! instruction-set dispatcher (`crate::dispatch`, std only) compiles queries
+//! instruction-set dispatcher (`crate::host::dispatch`, std only) compiles queries
 //! for AVX2 and AVX-512 by wrapping an accelerator in a type of its own.
 //!
 //! Every accelerator gives the same answer, bit for bit: ties between
@@ -25,9 +25,9 @@
 mod accelerator;
 mod brute;
 pub mod bvh;
-mod choice;
+mod accel_choice;
 
 pub use accelerator::{Accelerator, Hit, PacketJob, SceneMismatch};
 pub use brute::BruteForce;
 pub use bvh::{BuildSettings, Bvh, BvhError, BvhStats, BvhView};
-pub use choice::AccelChoice;
+pub use accel_choice::AccelChoice;

@@ -42,7 +42,7 @@ mod traverse;
 #[cfg(test)]
 mod tests;
 
-use crate::scalar::Scalar;
+use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 
 pub use build::BuildSettings;

@@ -4,11 +4,11 @@
 
 extern crate std;
 use super::*;
-use crate::lanes::{Lanes, Mask};
+use crate::num::lanes::{Lanes, Mask};
 use crate::query::{Accelerator, BruteForce, SceneMismatch};
-use crate::ray::{Ray, RayPacket};
+use crate::geom::ray::{Ray, RayPacket};
 use crate::scene::{Material, Scene};
-use crate::vec3::Vec3;
+use crate::geom::vec3::Vec3;
 use std::vec;
 
 type Big = Scene<f32, 256, 1024, 4, 2>;
@@ -17,7 +17,7 @@ type Big = Scene<f32, 256, 1024, 4, 2>;
 struct Rng(u64);
 impl Rng {
     fn next(&mut self) -> u64 {
-        crate::test_rng::splitmix64(&mut self.0)
+        crate::num::test_rng::splitmix64(&mut self.0)
     }
     fn range(&mut self, lo: f32, hi: f32) -> f32 {
         lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)

@@ -1,0 +1,230 @@
+//! Axis-aligned box, by the slab test; the slab code is shared with the
+//! oriented box, which runs it in the box's own frame.
+
+use super::error::GeometryError;
+use crate::num::lanes::{Lanes, Mask};
+use crate::geom::ray::{RayPacket, Roots};
+use crate::num::scalar::Scalar;
+use crate::geom::uniform_scale::Similarity;
+use crate::geom::vec3::{Vec3, Vec3xW};
+
+/// An axis-aligned box `[min, max]` (solid for visibility: a ray crosses its
+/// surface where it enters and where it leaves).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AaBox<S> {
+    min: Vec3<S>,
+    max: Vec3<S>,
+}
+
+impl<S: Scalar> AaBox<S> {
+    /// The same box in the frame of `sim`, with scalar `T`.
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> AaBox<T> {
+        AaBox { min: sim.point(self.min), max: sim.point(self.max) }
+    }
+
+    /// The box between two opposite corners, given in any order. A box may be
+    /// flat (zero thickness along an axis); it is then a rectangle.
+    pub fn new(a: Vec3<S>, b: Vec3<S>) -> Result<Self, GeometryError> {
+        if !a.is_finite() || !b.is_finite() {
+            return Err(GeometryError::NonFinite);
+        }
+        Ok(AaBox { min: a.min_elem(b), max: a.max_elem(b) })
+    }
+
+    /// Minimum corner.
+    pub fn min(&self) -> Vec3<S> {
+        self.min
+    }
+    /// Maximum corner.
+    pub fn max(&self) -> Vec3<S> {
+        self.max
+    }
+
+    /// Crossings of each active ray with the box surface in `(t_min, t_max)`.
+    // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
+    // the one target without 32-bit atomics), where the copies would not fit
+    // a small flash: there each kernel is one function per packet width.
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
+    pub fn roots<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Roots<S, W> {
+        slab_roots(ray.origin, ray.dir, self.min, self.max, t_min, t_max, active)
+    }
+
+    /// Outward normal at a point on the surface: the axis of the face the
+    /// point is nearest to (ties resolved x, then y, then z).
+    #[inline]
+    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
+        face_normal(p, self.min, self.max)
+    }
+
+    /// [`AaBox::normal`] of every lane of `p`.
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        face_normals(p, self.min, self.max)
+    }
+}
+
+/// Entry and exit of rays through the slabs `min <= x <= max` on each axis.
+///
+/// Each axis gives an interval `[t_near, t_far]`; the box is hit where the
+/// largest `t_near` is no greater than the smallest `t_far`. A ray parallel to
+/// an axis (direction component exactly zero) is handled without dividing by
+/// zero: the slab is the whole line when the origin lies between its planes,
+/// and empty otherwise.
+#[inline(always)]
+pub(crate) fn slab_roots<S: Scalar, const W: usize>(
+    origin: Vec3xW<S, W>,
+    dir: Vec3xW<S, W>,
+    min: Vec3<S>,
+    max: Vec3<S>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    active: Mask<W>,
+) -> Roots<S, W> {
+    let (nx, fx) = slab_axis(origin.x, dir.x, min.x, max.x);
+    let (ny, fy) = slab_axis(origin.y, dir.y, min.y, max.y);
+    let (nz, fz) = slab_axis(origin.z, dir.z, min.z, max.z);
+    // The ray is inside the box between the last entry and the first exit.
+    let t_near = nx.max(ny).max(nz);
+    let t_far = fx.min(fy).min(fz);
+    let hit = active & t_near.le(t_far);
+    if hit.none() {
+        return Roots::none();
+    }
+    Roots::from_candidates(t_near, hit, t_far, hit & t_far.gt(t_near), t_min, t_max)
+}
+
+/// Entry and exit distances `(near, far)` of one slab `lo <= o + t·d <= hi`.
+///
+/// A function rather than a closure so that it is inlined (and compiled for
+/// the instruction set of the caller; see `dispatch`).
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+fn slab_axis<S: Scalar, const W: usize>(o: Lanes<S, W>, d: Lanes<S, W>, lo: S, hi: S) -> (Lanes<S, W>, Lanes<S, W>) {
+    let big = Lanes::splat(S::MAX);
+    {
+        let parallel = d.eq_lanes(Lanes::zero());
+        // Distances to both slab planes; the division is guarded for parallel lanes.
+        let t1 = (Lanes::splat(lo) - o).div_nonzero(d);
+        let t2 = (Lanes::splat(hi) - o).div_nonzero(d);
+        let near = t1.min(t2);
+        let far = t1.max(t2);
+        // Parallel: all of the line inside the slab, or none of it.
+        let inside = o.ge(Lanes::splat(lo)) & o.le(Lanes::splat(hi));
+        let near = Lanes::select(parallel, Lanes::select(inside, -big, big), near);
+        let far = Lanes::select(parallel, Lanes::select(inside, big, -big), far);
+        (near, far)
+    }
+}
+
+/// [`face_normal`] of every lane of `p`, as lane operations: the same
+/// comparisons and the same choice (the first axis with the smallest
+/// distance; on an axis, the `max` face when strictly nearer) per lane.
+#[inline(always)]
+pub(crate) fn face_normals<S: Scalar, const W: usize>(p: &Vec3xW<S, W>, min: Vec3<S>, max: Vec3<S>) -> Vec3xW<S, W> {
+    let (one, zero) = (Lanes::splat(S::ONE), Lanes::<S, W>::zero());
+    let mut best = Lanes::splat(S::MAX);
+    let mut n = Vec3::new(zero, zero, zero);
+    for axis in 0..3 {
+        let pa = p.axis(axis);
+        let lo = (pa - Lanes::splat(min.axis(axis))).abs();
+        let hi = (Lanes::splat(max.axis(axis)) - pa).abs();
+        let upper = hi.lt(lo);
+        let d = Lanes::select(upper, hi, lo);
+        let s = Lanes::select(upper, one, -one);
+        let nearer = d.lt(best);
+        best = Lanes::select(nearer, d, best);
+        let face = match axis {
+            0 => Vec3::new(s, zero, zero),
+            1 => Vec3::new(zero, s, zero),
+            _ => Vec3::new(zero, zero, s),
+        };
+        n = Vec3xW::select(nearer, face, n);
+    }
+    n
+}
+
+/// Outward normal of the face of `[min, max]` nearest to `p`.
+#[inline]
+pub(crate) fn face_normal<S: Scalar>(p: Vec3<S>, min: Vec3<S>, max: Vec3<S>) -> Vec3<S> {
+    let mut best = S::MAX;
+    let mut n = Vec3::ZERO;
+    for axis in 0..3 {
+        let lo = (p.axis(axis) - min.axis(axis)).abs();
+        let hi = (max.axis(axis) - p.axis(axis)).abs();
+        let (d, s) = if hi < lo { (hi, S::ONE) } else { (lo, -S::ONE) };
+        if d < best {
+            best = d;
+            n = match axis {
+                0 => Vec3::new(s, S::ZERO, S::ZERO),
+                1 => Vec3::new(S::ZERO, s, S::ZERO),
+                _ => Vec3::new(S::ZERO, S::ZERO, s),
+            };
+        }
+    }
+    n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::primitives::test_util::*;
+    use crate::geom::primitives::Shape;
+
+    fn cube() -> Shape<f32> {
+        Shape::AaBox(AaBox::new(Vec3::new(1.0, 1.0, 1.0), Vec3::new(-1.0, -1.0, -1.0)).unwrap())
+    }
+
+    #[test]
+    fn analytic_hit_and_normals() {
+        assert_eq!(hits(&cube(), [0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), vec![4.0, 6.0]);
+        assert_eq!(hits(&cube(), [3.0, 0.5, 0.5], [-1.0, 0.0, 0.0]), vec![2.0, 4.0]);
+        let b = AaBox::new(Vec3::new(-1.0f32, -1.0, -1.0), Vec3::new(1.0, 1.0, 1.0)).unwrap();
+        assert_eq!(b.normal(Vec3::new(0.2, 1.0, 0.3)), Vec3::new(0.0, 1.0, 0.0));
+        assert_eq!(b.normal(Vec3::new(-1.0, 0.1, 0.3)), Vec3::new(-1.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn miss_inside_and_behind() {
+        assert!(hits(&cube(), [0.0, 2.0, -5.0], [0.0, 0.0, 1.0]).is_empty());
+        assert_eq!(hits(&cube(), [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]), vec![1.0]);
+        assert!(hits(&cube(), [0.0, 0.0, 5.0], [0.0, 0.0, 1.0]).is_empty());
+    }
+
+    #[test]
+    fn ray_parallel_to_slab() {
+        // In the slab planes' interior: hits; outside: misses; on a face plane: grazes.
+        assert_eq!(hits(&cube(), [-5.0, 0.0, 0.0], [1.0, 0.0, 0.0]), vec![4.0, 6.0]);
+        assert!(hits(&cube(), [-5.0, 1.5, 0.0], [1.0, 0.0, 0.0]).is_empty());
+        assert_eq!(hits(&cube(), [-5.0, 1.0, 1.0], [1.0, 0.0, 0.0]), vec![4.0, 6.0]);
+    }
+
+    #[test]
+    fn diagonal_through_corner_region() {
+        let h = hits(&cube(), [-3.0, -3.0, -3.0], [1.0, 1.0, 1.0]);
+        let s3 = 3.0f32.sqrt();
+        assert_eq!(h.len(), 2);
+        assert!((h[0] - 2.0 * s3).abs() < 1e-5 && (h[1] - 4.0 * s3).abs() < 1e-5, "{h:?}");
+    }
+
+    #[test]
+    fn flat_box_is_a_rectangle() {
+        let flat = Shape::AaBox(AaBox::new(Vec3::new(-1.0f32, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)).unwrap());
+        assert_eq!(hits(&flat, [0.0, 0.0, -2.0], [0.0, 0.0, 1.0]), vec![2.0]);
+    }
+
+    #[test]
+    fn degenerate_input_is_rejected() {
+        assert_eq!(
+            AaBox::new(Vec3::new(f32::INFINITY, 0.0, 0.0), Vec3::new(1.0, 1.0, 1.0)),
+            Err(GeometryError::NonFinite)
+        );
+    }
+}

@@ -1,0 +1,228 @@
+//! Finite open cone or cylinder between two points with two radii (the NFF
+//! `c` entity), exact: intersected in its own frame and cut by the axial
+//! coordinate, not by an axis-aligned clip box.
+
+use super::error::GeometryError;
+use crate::num::lanes::{Lanes, Mask};
+use crate::geom::ray::{RayPacket, Roots};
+use crate::num::scalar::Scalar;
+use crate::geom::uniform_scale::Similarity;
+use crate::geom::vec3::{Vec3, Vec3xW};
+
+/// An open truncated cone (a cylinder when both radii are equal) from `base`
+/// (radius `base_radius`) to `apex` (radius `apex_radius`), without caps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cone<S> {
+    base: Vec3<S>,
+    apex: Vec3<S>,
+    base_radius: S,
+    apex_radius: S,
+    /// Local frame: `w` along the axis, `u × v = w`.
+    u: Vec3<S>,
+    v: Vec3<S>,
+    w: Vec3<S>,
+    /// Axis length.
+    height: S,
+    /// Radius change per unit of axial distance.
+    slope: S,
+}
+
+impl<S: Scalar> Cone<S> {
+    /// A cone between two distinct points; radii must be non-negative and not
+    /// both zero.
+    pub fn new(base: Vec3<S>, base_radius: S, apex: Vec3<S>, apex_radius: S) -> Result<Self, GeometryError> {
+        if !base.is_finite() || !apex.is_finite() || !base_radius.is_finite() || !apex_radius.is_finite() {
+            return Err(GeometryError::NonFinite);
+        }
+        if base_radius < S::ZERO || apex_radius < S::ZERO || (base_radius == S::ZERO && apex_radius == S::ZERO) {
+            return Err(GeometryError::NonPositiveRadius);
+        }
+        let axis = apex - base;
+        let height = axis.length();
+        if !(height > S::ZERO) || !height.is_finite() {
+            return Err(GeometryError::ZeroLengthAxis);
+        }
+        let w = axis.scale(S::ONE / height);
+        let (u, v) = w.orthonormal_basis();
+        Ok(Cone { base, apex, base_radius, apex_radius, u, v, w, height, slope: (apex_radius - base_radius) / height })
+    }
+
+    /// Change of radius per unit of height, `(r_apex − r_base)/h`.
+    pub fn slope(&self) -> S {
+        self.slope
+    }
+
+    /// The same cone in the frame of `sim`, with scalar `T` (the slope has
+    /// no unit and stays).
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Cone<T> {
+        Cone {
+            base: sim.point(self.base),
+            apex: sim.point(self.apex),
+            base_radius: sim.length(self.base_radius),
+            apex_radius: sim.length(self.apex_radius),
+            u: sim.direction(self.u),
+            v: sim.direction(self.v),
+            w: sim.direction(self.w),
+            height: sim.length(self.height),
+            slope: T::from_f32(self.slope.to_f32()),
+        }
+    }
+
+    /// `(base, base radius, apex, apex radius)`.
+    pub fn ends(&self) -> (Vec3<S>, S, Vec3<S>, S) {
+        (self.base, self.base_radius, self.apex, self.apex_radius)
+    }
+
+    /// Crossings of each active ray with the cone's side in `(t_min, t_max)`.
+    // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
+    // the one target without 32-bit atomics), where the copies would not fit
+    // a small flash: there each kernel is one function per packet width.
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
+    pub fn roots<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Roots<S, W> {
+        // Transform the ray into the cone's frame (orthonormal: t unchanged).
+        let rel = ray.origin.sub_splat(self.base);
+        let (ox, oy, oz) = (rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
+        let (dx, dy, dz) = (ray.dir.dot_splat(self.u), ray.dir.dot_splat(self.v), ray.dir.dot_splat(self.w));
+        // Surface: x² + y² = r(z)², r(z) = r_b + k·z. With x = o + t·d this is
+        // a t² + 2b' t + c = 0 (half-b form).
+        let k = self.slope;
+        let r_o = oz * k + self.base_radius;
+        let a = dx * dx + dy * dy - dz * dz * (k * k);
+        let b = ox * dx + oy * dy - dz * r_o * k;
+        let c = ox * ox + oy * oy - r_o * r_o;
+        // Compute the discriminant (of the half-b form); a = 0 is linear.
+        let disc = b * b - a * c;
+        let linear = a.eq_lanes(Lanes::zero());
+        let quad = active & !linear & disc.ge(Lanes::zero());
+        let lin = active & linear & b.ne_lanes(Lanes::zero());
+        if (quad | lin).none() {
+            return Roots::none();
+        }
+        // q = −(b' + sign(b')·√Δ'): roots q/a and c/q, without cancellation.
+        let sq = Lanes::select(quad, disc, Lanes::zero()).sqrt();
+        let q = Lanes::select(b.ge(Lanes::zero()), -(b + sq), sq - b);
+        let r0 = q.div_nonzero(a);
+        let r1 = c.div_nonzero(q);
+        // Linear: 2b' t + c = 0.
+        let rl = (-c).div_nonzero(b * S::TWO);
+        let t0 = Lanes::select(lin, rl, r0);
+        let t1 = r1;
+        // Keep roots whose axial coordinate lies on the finite piece [0, h]
+        // (this also removes the mirror nappe of a true cone).
+        // (Written out twice rather than as a closure, which LLVM may leave
+        // un-inlined and so compiled for the baseline instruction set.)
+        let z0 = oz + dz * t0;
+        let z1 = oz + dz * t1;
+        let h = Lanes::splat(self.height);
+        let ok0 = (quad | lin) & z0.ge(Lanes::zero()) & z0.le(h);
+        let ok1 = quad & q.ne_lanes(Lanes::zero()) & z1.ge(Lanes::zero()) & z1.le(h);
+        Roots::from_candidates(t0, ok0, t1, ok1, t_min, t_max)
+    }
+
+    /// Outward normal (not normalized) at a point on the side.
+    #[inline]
+    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
+        let rel = p - self.base;
+        let (x, y, z) = (rel.dot(self.u), rel.dot(self.v), rel.dot(self.w));
+        // Gradient of x² + y² − r(z)², halved: (x, y, −k·r(z)).
+        let r = self.base_radius + self.slope * z;
+        self.u.scale(x) + self.v.scale(y) - self.w.scale(self.slope * r)
+    }
+
+    /// [`Cone::normal`] of every lane of `p` (the same operations per lane).
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        let rel = p.sub_splat(self.base);
+        let (x, y, z) = (rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
+        let r = Lanes::splat(self.base_radius) + z * self.slope;
+        self.u.splat::<W>().scale_lanes(x) + self.v.splat::<W>().scale_lanes(y)
+            - self.w.splat::<W>().scale_lanes(r * self.slope)
+    }
+
+    /// Axis-aligned bounds `(min, max)`: the union of the two end discs.
+    pub fn bounds(&self) -> (Vec3<S>, Vec3<S>) {
+        // A disc of radius r with unit normal w extends r·√(1 − w_a²) along axis a.
+        let ext = |r: S| {
+            let e = |wa: S| r * (S::ONE - wa * wa).max(S::ZERO).sqrt();
+            Vec3::new(e(self.w.x), e(self.w.y), e(self.w.z))
+        };
+        let (eb, ea) = (ext(self.base_radius), ext(self.apex_radius));
+        let lo = (self.base - eb).min_elem(self.apex - ea);
+        let hi = (self.base + eb).max_elem(self.apex + ea);
+        (lo, hi)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::primitives::test_util::*;
+    use crate::geom::primitives::Shape;
+
+    fn close(a: &[f32], b: &[f32]) -> bool {
+        a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-4)
+    }
+
+    #[test]
+    fn cylinder_side_and_open_ends() {
+        let c = Shape::Cone(Cone::new(Vec3::new(0.0f32, 0.0, 0.0), 1.0, Vec3::new(0.0, 0.0, 2.0), 1.0).unwrap());
+        assert!(close(&hits(&c, [-5.0, 0.0, 1.0], [1.0, 0.0, 0.0]), &[4.0, 6.0]));
+        // Beyond the ends: miss; through the open end along the axis: miss.
+        assert!(hits(&c, [-5.0, 0.0, 3.0], [1.0, 0.0, 0.0]).is_empty());
+        assert!(hits(&c, [0.0, 0.0, -5.0], [0.0, 0.0, 1.0]).is_empty());
+        // Inside, sideways: one root.
+        assert!(close(&hits(&c, [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]), &[1.0]));
+        // Into the open end at a slant: hits the inside wall once.
+        let d = [1.0f32, 0.0, 1.0];
+        let h = hits(&c, [0.0, 0.0, 0.5], d);
+        assert!(close(&h, &[2.0f32.sqrt()]), "{h:?}");
+    }
+
+    #[test]
+    fn true_cone_excludes_mirror_nappe() {
+        // Radius 1 at z = 0 to a point at z = 1.
+        let c = Shape::Cone(Cone::new(Vec3::new(0.0f32, 0.0, 0.0), 1.0, Vec3::new(0.0, 0.0, 1.0), 0.0).unwrap());
+        assert!(close(&hits(&c, [-5.0, 0.0, 0.5], [1.0, 0.0, 0.0]), &[4.5, 5.5]));
+        // At z = 1.5 only the mirror nappe would be hit.
+        assert!(hits(&c, [-5.0, 0.0, 1.5], [1.0, 0.0, 0.0]).is_empty());
+    }
+
+    #[test]
+    fn slanted_axis_matches_exact_geometry() {
+        // Cylinder from (0,0,0) to (1,1,1), radius 0.5; a ray through the axis
+        // midpoint perpendicular to the axis meets the side at ±0.5.
+        let c = Shape::Cone(Cone::new(Vec3::new(0.0f32, 0.0, 0.0), 0.5, Vec3::new(1.0, 1.0, 1.0), 0.5).unwrap());
+        let m = 0.5f32;
+        let d = [1.0f32, -1.0, 0.0];
+        let s = 1.0 / 2.0f32.sqrt();
+        let o = [m - 3.0 * s, m + 3.0 * s, m];
+        assert!(close(&hits(&c, o, d), &[2.5, 3.5]));
+    }
+
+    #[test]
+    fn outward_normal() {
+        let c = Cone::new(Vec3::new(0.0f32, 0.0, 0.0), 1.0, Vec3::new(0.0, 0.0, 1.0), 0.0).unwrap();
+        let n = c.normal(Vec3::new(0.5, 0.0, 0.5)).normalize_or_zero();
+        let e = Vec3::new(1.0, 0.0, 1.0).normalize_or_zero();
+        assert!((n - e).length() < 1e-6, "{n:?}");
+    }
+
+    #[test]
+    fn degenerate_input_is_rejected() {
+        let o = Vec3::new(0.0f32, 0.0, 0.0);
+        assert_eq!(Cone::new(o, 1.0, o, 1.0), Err(GeometryError::ZeroLengthAxis));
+        let z = Vec3::new(0.0f32, 0.0, 1.0);
+        assert_eq!(Cone::new(o, 0.0, z, 0.0), Err(GeometryError::NonPositiveRadius));
+        assert_eq!(Cone::new(o, -1.0, z, 1.0), Err(GeometryError::NonPositiveRadius));
+        assert_eq!(Cone::new(o, f32::NAN, z, 1.0), Err(GeometryError::NonFinite));
+    }
+}

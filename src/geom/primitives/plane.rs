@@ -1,0 +1,149 @@
+//! Infinite plane `Ax + By + Cz + D = 0`.
+
+use super::error::GeometryError;
+use crate::num::lanes::{Lanes, Mask};
+use crate::geom::ray::{RayPacket, Roots};
+use crate::num::scalar::Scalar;
+use crate::geom::uniform_scale::Similarity;
+use crate::geom::vec3::Vec3;
+
+/// An infinite plane, stored with a unit normal: `n·x + d = 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane<S> {
+    normal: Vec3<S>,
+    d: S,
+}
+
+impl<S: Scalar> Plane<S> {
+    /// The plane `Ax + By + Cz + D = 0`; `(A, B, C)` must not be zero.
+    pub fn from_coefficients(a: S, b: S, c: S, d: S) -> Result<Self, GeometryError> {
+        let n = Vec3::new(a, b, c);
+        if !n.is_finite() || !d.is_finite() {
+            return Err(GeometryError::NonFinite);
+        }
+        let len = n.length();
+        if !(len > S::ZERO) || !len.is_finite() {
+            return Err(GeometryError::ZeroLengthAxis);
+        }
+        let inv = S::ONE / len;
+        Ok(Plane { normal: n.scale(inv), d: d * inv })
+    }
+
+    /// The plane through `point` with normal `normal` (any non-zero length).
+    pub fn from_point_normal(point: Vec3<S>, normal: Vec3<S>) -> Result<Self, GeometryError> {
+        if !point.is_finite() {
+            return Err(GeometryError::NonFinite);
+        }
+        let n = normal.normalize_or_zero();
+        if n == Vec3::ZERO {
+            return Err(if normal.is_finite() { GeometryError::ZeroLengthAxis } else { GeometryError::NonFinite });
+        }
+        Ok(Plane { normal: n, d: -n.dot(point) })
+    }
+
+    /// The same plane in the frame of `sim`, with scalar `T`: with
+    /// `x = x'/s + o`, `n·x + d = 0` becomes `n·x' + s·(d + n·o) = 0`.
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Plane<T> {
+        Plane { normal: sim.direction(self.normal), d: T::from_f32(moved_offset(self.normal, self.d, sim)) }
+    }
+
+    /// Unit normal.
+    pub fn normal_vector(&self) -> Vec3<S> {
+        self.normal
+    }
+    /// Offset `d` of `n·x + d = 0` for the unit normal.
+    pub fn offset(&self) -> S {
+        self.d
+    }
+
+    /// Crossing of each active ray with the plane inside `(t_min, t_max)`.
+    // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
+    // the one target without 32-bit atomics), where the copies would not fit
+    // a small flash: there each kernel is one function per packet width.
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
+    pub fn roots<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Roots<S, W> {
+        plane_crossing(self.normal, self.d, ray, t_min, t_max, active)
+    }
+
+    /// Normal at any point (unit).
+    #[inline]
+    pub fn normal(&self, _p: Vec3<S>) -> Vec3<S> {
+        self.normal
+    }
+}
+
+/// The crossing of rays with the plane `n·x + d = 0`, shared with polygons.
+/// Rays parallel to the plane (`n·dir = 0`) miss.
+#[inline(always)]
+pub(crate) fn plane_crossing<S: Scalar, const W: usize>(
+    n: Vec3<S>,
+    d: S,
+    ray: &RayPacket<S, W>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    active: Mask<W>,
+) -> Roots<S, W> {
+    // Rate at which the signed distance changes along the ray.
+    let denom = ray.dir.dot_splat(n);
+    let valid = active & denom.ne_lanes(Lanes::zero());
+    if valid.none() {
+        return Roots::none();
+    }
+    // Signed distance of the origin, divided by the rate.
+    let dist = ray.origin.dot_splat(n) + d;
+    let t = (-dist).div_nonzero(denom);
+    Roots::from_candidates(t, valid, t, Mask::splat(false), t_min, t_max)
+}
+
+/// The offset `d` of the plane `n·x + d = 0` (unit `n`) in the frame of
+/// `sim`: `s·(d + n·o)`, in `f32`.
+pub(crate) fn moved_offset<S: Scalar>(n: Vec3<S>, d: S, sim: &Similarity) -> f32 {
+    let [nx, ny, nz] = n.to_f32();
+    let [ox, oy, oz] = sim.origin;
+    (d.to_f32() + (nx * ox + ny * oy + nz * oz)) * sim.scale
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::primitives::test_util::*;
+    use crate::geom::primitives::Shape;
+
+    #[test]
+    fn analytic_hit_both_sides() {
+        let p = Plane::from_coefficients(0.0f32, 0.0, 2.0, -2.0).unwrap(); // z = 1
+        {
+            assert_eq!(hits(&Shape::Plane(p), [0.0, 0.0, -3.0], [0.0, 0.0, 1.0]), vec![4.0]);
+            assert_eq!(hits(&Shape::Plane(p), [0.0, 0.0, 5.0], [0.0, 0.0, -1.0]), vec![4.0]);
+        }
+    }
+
+    #[test]
+    fn parallel_and_behind_miss() {
+        let p = Plane::from_point_normal(Vec3::new(0.0f32, 0.0, 1.0), Vec3::new(0.0, 0.0, 3.0)).unwrap();
+        {
+            assert!(hits(&Shape::Plane(p), [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]).is_empty());
+            assert!(hits(&Shape::Plane(p), [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]).is_empty());
+            assert!(hits(&Shape::Plane(p), [0.0, 0.0, 2.0], [0.0, 0.0, 1.0]).is_empty());
+        }
+    }
+
+    #[test]
+    fn degenerate_input_is_rejected() {
+        assert_eq!(Plane::from_coefficients(0.0f32, 0.0, 0.0, 1.0), Err(GeometryError::ZeroLengthAxis));
+        assert_eq!(Plane::from_coefficients(f32::NAN, 0.0, 1.0, 1.0), Err(GeometryError::NonFinite));
+        assert_eq!(
+            Plane::from_point_normal(Vec3::new(0.0f32, 0.0, 0.0), Vec3::ZERO),
+            Err(GeometryError::ZeroLengthAxis)
+        );
+    }
+}

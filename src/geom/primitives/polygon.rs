@@ -1,0 +1,532 @@
+//! Planar polygons, convex or not, and polygon patches (a normal per vertex).
+//!
+//! Vertices live in the scene's shared vertex pool; a polygon holds the range
+//! of its vertices (a patch stores its `n` normals right after its `n`
+//! positions). The plane comes from Newell's method, which is exact for
+//! triangles and robust for slightly non-planar input. The inside test runs
+//! in the projection that drops the normal's dominant axis:
+//! - convex polygons: every edge function has the polygon's orientation sign;
+//! - non-convex polygons: crossing number (even-odd rule), division-free.
+//!
+//! A polygon whose area is zero (collinear or repeated vertices, which real
+//! meshes contain) is kept, so primitive indices stay stable, but never hit.
+
+use super::error::GeometryError;
+use super::plane::{moved_offset, plane_crossing};
+use crate::num::lanes::{Lanes, Mask};
+use crate::geom::ray::{RayPacket, Roots};
+use crate::num::scalar::Scalar;
+use crate::geom::uniform_scale::Similarity;
+use crate::geom::vec3::{Vec3, Vec3xW};
+
+/// A planar polygon (or patch) whose vertices are in a vertex pool.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Polygon<S> {
+    first: u32,
+    count: u32,
+    patch: bool,
+    convex: bool,
+    degenerate: bool,
+    /// Projection axes `(u, v)`: the two axes other than the normal's dominant one.
+    axis_u: u8,
+    axis_v: u8,
+    /// Orientation of the projected outline: counter-clockwise in `(u, v)`.
+    ccw: bool,
+    normal: Vec3<S>,
+    d: S,
+}
+
+/// The component `axis` of every lane.
+#[inline(always)]
+fn lanes_axis<S: Scalar, const W: usize>(v: &Vec3xW<S, W>, axis: u8) -> Lanes<S, W> {
+    match axis {
+        0 => v.x,
+        1 => v.y,
+        _ => v.z,
+    }
+}
+
+impl<S: Scalar> Polygon<S> {
+    /// The same polygon in the frame of `sim`, with scalar `T`, over a pool
+    /// converted in the same order (positions by `sim`, normals unchanged).
+    /// Its shape flags are the original's (a similarity keeps them).
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Polygon<T> {
+        Polygon {
+            first: self.first,
+            count: self.count,
+            patch: self.patch,
+            convex: self.convex,
+            degenerate: self.degenerate,
+            axis_u: self.axis_u,
+            axis_v: self.axis_v,
+            ccw: self.ccw,
+            normal: sim.direction(self.normal),
+            d: T::from_f32(moved_offset(self.normal, self.d, sim)),
+        }
+    }
+
+    /// The same polygon over pool slots starting at `first` (a pool copied
+    /// elsewhere).
+    pub(crate) fn at_first(self, first: u32) -> Self {
+        Polygon { first, ..self }
+    }
+
+    /// A polygon over `pool[first .. first + count]` (for a patch, the normals
+    /// follow at `pool[first + count .. first + 2·count]`, already checked to
+    /// be non-zero by the caller).
+    ///
+    /// Errors: fewer than 3 vertices, a range outside the pool, a non-finite
+    /// coordinate. A zero-area polygon is accepted and marked degenerate.
+    pub fn from_pool(pool: &[Vec3<S>], first: u32, count: u32, patch: bool) -> Result<Self, GeometryError> {
+        if count < 3 {
+            return Err(GeometryError::TooFewVertices(count));
+        }
+        // Checked: on a 32-bit target `2·count` or `first + slots` can wrap.
+        let n_slots = if patch { (count as usize).checked_mul(2) } else { Some(count as usize) };
+        let end = n_slots.and_then(|n| (first as usize).checked_add(n));
+        let all = end.and_then(|end| pool.get(first as usize..end)).ok_or(GeometryError::VertexRange)?;
+        if all.iter().any(|v| !v.is_finite()) {
+            return Err(GeometryError::NonFinite);
+        }
+        let verts = all.get(..count as usize).ok_or(GeometryError::VertexRange)?;
+
+        // Newell's method: the normal's components are twice the signed areas
+        // of the projections onto the coordinate planes. Relative to the first
+        // vertex, to keep the products small.
+        let o = verts[0];
+        let mut n = Vec3::ZERO;
+        let mut lo = o;
+        let mut hi = o;
+        let mut prev = verts[count as usize - 1] - o;
+        for &v in verts {
+            let cur = v - o;
+            n.x = n.x + (prev.y - cur.y) * (prev.z + cur.z);
+            n.y = n.y + (prev.z - cur.z) * (prev.x + cur.x);
+            n.z = n.z + (prev.x - cur.x) * (prev.y + cur.y);
+            lo = lo.min_elem(v);
+            hi = hi.max_elem(v);
+            prev = cur;
+        }
+        // Zero area: the normal vanishes (exactly, for repeated or collinear
+        // vertices in exact arithmetic), or is negligible against the extent.
+        let extent = (hi - lo).max_abs();
+        let n_len = n.length();
+        let degenerate = !(n_len > S::ZERO) || !(n_len > extent * extent * S::from_f32(1.0e-7));
+
+        let normal = if degenerate { Vec3::ZERO } else { n.scale(S::ONE / n_len) };
+        // Drop the dominant axis of the normal for the 2D inside test; (u, v)
+        // are the next two axes cyclically, so the projected signed area has
+        // the sign of the dropped component.
+        let ax = normal.x.abs();
+        let ay = normal.y.abs();
+        let az = normal.z.abs();
+        let drop: u8 = if ax >= ay && ax >= az {
+            0
+        } else if ay >= az {
+            1
+        } else {
+            2
+        };
+        let axis_u = (drop + 1) % 3;
+        let axis_v = (drop + 2) % 3;
+        let ccw = normal.axis(drop as usize) > S::ZERO;
+
+        let mut poly =
+            Polygon { first, count, patch, convex: false, degenerate, axis_u, axis_v, ccw, normal, d: -normal.dot(o) };
+        poly.convex = !degenerate && poly.is_convex_outline(verts);
+        Ok(poly)
+    }
+
+    /// Convexity of the projected outline: every turn has the same sign and
+    /// the outline goes around once (each coordinate's direction changes sign
+    /// at most twice), which excludes star polygons.
+    fn is_convex_outline(&self, verts: &[Vec3<S>]) -> bool {
+        let n = verts.len();
+        let (mut pos, mut neg) = (false, false);
+        let (mut du_changes, mut dv_changes) = (0u32, 0u32);
+        let (mut last_du, mut last_dv) = (0i8, 0i8);
+        // Two passes over the edges: the first primes the last seen signs, the
+        // second counts every cyclic sign change exactly once.
+        for k in 0..2 * n {
+            let a = verts[k % n];
+            let b = verts[(k + 1) % n];
+            let c = verts[(k + 2) % n];
+            let e1 = (
+                b.axis(self.axis_u as usize) - a.axis(self.axis_u as usize),
+                b.axis(self.axis_v as usize) - a.axis(self.axis_v as usize),
+            );
+            let e2 = (
+                c.axis(self.axis_u as usize) - b.axis(self.axis_u as usize),
+                c.axis(self.axis_v as usize) - b.axis(self.axis_v as usize),
+            );
+            if k < n {
+                let turn = e1.0 * e2.1 - e1.1 * e2.0;
+                pos |= turn > S::ZERO;
+                neg |= turn < S::ZERO;
+            }
+            let sgn = |x: S| {
+                if x > S::ZERO {
+                    1i8
+                } else if x < S::ZERO {
+                    -1
+                } else {
+                    0
+                }
+            };
+            let (su, sv) = (sgn(e1.0), sgn(e1.1));
+            if su != 0 {
+                if last_du != 0 && su != last_du && k >= n {
+                    du_changes = du_changes.saturating_add(1);
+                }
+                last_du = su;
+            }
+            if sv != 0 {
+                if last_dv != 0 && sv != last_dv && k >= n {
+                    dv_changes = dv_changes.saturating_add(1);
+                }
+                last_dv = sv;
+            }
+        }
+        !(pos && neg) && du_changes <= 2 && dv_changes <= 2
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> u32 {
+        self.count
+    }
+    /// Index of the first vertex in the pool.
+    pub fn first_vertex(&self) -> u32 {
+        self.first
+    }
+    /// Whether this is a patch (per-vertex normals).
+    pub fn is_patch(&self) -> bool {
+        self.patch
+    }
+    /// Whether the outline is convex (the fast inside test applies).
+    pub fn is_convex(&self) -> bool {
+        self.convex
+    }
+    /// Whether the polygon has zero area (it is never hit).
+    pub fn is_degenerate(&self) -> bool {
+        self.degenerate
+    }
+    /// The vertex positions, from the pool (empty if the pool is not the
+    /// one the polygon was built against).
+    #[inline]
+    pub fn vertices<'a>(&self, pool: &'a [Vec3<S>]) -> &'a [Vec3<S>] {
+        let end = (self.first as usize).checked_add(self.count as usize).unwrap_or(usize::MAX);
+        pool.get(self.first as usize..end).unwrap_or(&[])
+    }
+    /// The per-vertex normals of a patch (empty for a plain polygon).
+    #[inline]
+    pub fn vertex_normals<'a>(&self, pool: &'a [Vec3<S>]) -> &'a [Vec3<S>] {
+        if !self.patch {
+            return &[];
+        }
+        let start = (self.first as usize).checked_add(self.count as usize).unwrap_or(usize::MAX);
+        let end = start.checked_add(self.count as usize).unwrap_or(usize::MAX);
+        pool.get(start..end).unwrap_or(&[])
+    }
+
+    /// Crossing of each active ray with the polygon in `(t_min, t_max)`.
+    // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
+    // the one target without 32-bit atomics), where the copies would not fit
+    // a small flash: there each kernel is one function per packet width.
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
+    pub fn roots<const W: usize>(
+        &self,
+        pool: &[Vec3<S>],
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Roots<S, W> {
+        let verts = self.vertices(pool);
+        let Some(&last) = verts.last() else {
+            return Roots::none();
+        };
+        if self.degenerate {
+            return Roots::none();
+        }
+        // Intersect the supporting plane first.
+        let mut r = plane_crossing(self.normal, self.d, ray, t_min, t_max, active);
+        if r.hit0.none() {
+            return r;
+        }
+        // Project the hit points onto the (u, v) plane.
+        let p = ray.at(r.t0);
+        let (iu, iv) = (self.axis_u, self.axis_v);
+        let pu = lanes_axis(&p, iu);
+        let pv = lanes_axis(&p, iv);
+        let mut a = (last.axis(iu as usize), last.axis(iv as usize));
+        if self.convex {
+            // Every edge function must have the outline's orientation sign
+            // (zero, on the edge, counts as inside).
+            let mut inside = r.hit0;
+            for v in verts {
+                let b = (v.axis(iu as usize), v.axis(iv as usize));
+                let e = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
+                inside &= if self.ccw { e.ge(Lanes::zero()) } else { e.le(Lanes::zero()) };
+                if inside.none() {
+                    return Roots::none();
+                }
+                a = b;
+            }
+            r.hit0 = inside;
+        } else {
+            // Crossing number of a ray from the point in +u: count edges that
+            // straddle the line v = pv and cross it to the right of the point.
+            // Without division: the crossing is right of the point when the
+            // edge function has the sign of (b.v − a.v).
+            let mut odd = Mask::splat(false);
+            for v in verts {
+                let b = (v.axis(iu as usize), v.axis(iv as usize));
+                let straddle = pv.lt(Lanes::splat(a.1)) ^ pv.lt(Lanes::splat(b.1));
+                let e = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
+                let right = if b.1 > a.1 { e.gt(Lanes::zero()) } else { e.lt(Lanes::zero()) };
+                odd = odd ^ (straddle & right);
+                a = b;
+            }
+            r.hit0 &= odd;
+        }
+        r.t0 = Lanes::select(r.hit0, r.t0, Lanes::splat(S::MAX));
+        r
+    }
+
+    /// Geometric normal (unit; zero for a degenerate polygon): the front side
+    /// is the one from which the vertices run counter-clockwise.
+    #[inline]
+    pub fn normal(&self) -> Vec3<S> {
+        self.normal
+    }
+
+    /// Shading normal at a point on the polygon: for a patch, the vertex
+    /// normals interpolated with mean value coordinates (Floater 2003; they
+    /// reduce to barycentric coordinates on triangles and are defined for any
+    /// polygon), computed in the 2D projection; for a plain polygon, or where
+    /// the interpolation vanishes, the geometric normal. Not normalized.
+    pub fn shading_normal(&self, pool: &[Vec3<S>], p: Vec3<S>) -> Vec3<S> {
+        let verts = self.vertices(pool);
+        let normals = self.vertex_normals(pool);
+        if normals.len() != verts.len() || verts.is_empty() {
+            return self.normal;
+        }
+        let (iu, iv) = (self.axis_u as usize, self.axis_v as usize);
+        let n = verts.len();
+        // Fixed point: a common power-of-two factor brings the vertex offsets
+        // near 1, so their products keep their digits; the weights below are
+        // ratios of degree-2 terms divided by a length, so a common factor
+        // scales every weight alike and the normalized result is unchanged.
+        let f = if S::NORMALIZE_PRESCALE {
+            let m = verts
+                .iter()
+                .fold(S::ZERO, |m, v| m.max((v.axis(iu) - p.axis(iu)).abs()).max((v.axis(iv) - p.axis(iv)).abs()));
+            m.normalizing_factor()
+        } else {
+            S::ONE
+        };
+        // Vertex and normal `i` (indices wrap once; `get`, not indexing:
+        // the render path has no panic path).
+        let wrap = |i: usize| if i >= n { i - n } else { i };
+        let normal_at = |i: usize| normals.get(wrap(i)).copied().unwrap_or(self.normal);
+        // s_i: vertex i relative to p; r_i: its length.
+        let s = |i: usize| {
+            let v = verts.get(wrap(i)).copied().unwrap_or(p);
+            let d = (v.axis(iu) - p.axis(iu), v.axis(iv) - p.axis(iv));
+            if S::NORMALIZE_PRESCALE {
+                (d.0 * f, d.1 * f)
+            } else {
+                d
+            }
+        };
+        let len = |a: (S, S)| (a.0 * a.0 + a.1 * a.1).sqrt();
+        // tan(α_i / 2) for the angle at p subtended by edge (i, i+1):
+        // (r_i r_{i+1} − s_i·s_{i+1}) / (s_i × s_{i+1}).
+        let half_tan = |a: (S, S), b: (S, S), ra: S, rb: S| {
+            let cross = a.0 * b.1 - a.1 * b.0;
+            let dot = a.0 * b.0 + a.1 * b.1;
+            if cross == S::ZERO {
+                S::ZERO
+            } else {
+                (ra * rb - dot) / cross
+            }
+        };
+        let mut sum = Vec3::ZERO;
+        let mut wsum = S::ZERO;
+        let mut s_prev = s(n - 1);
+        let mut r_prev = len(s_prev);
+        let mut s_cur = s(0);
+        let mut r_cur = len(s_cur);
+        for i in 0..n {
+            let s_next = s(i + 1);
+            let r_next = len(s_next);
+            // At a vertex: its own normal.
+            if r_cur == S::ZERO {
+                return normal_at(i);
+            }
+            // On edge (i, i+1): interpolate linearly along it.
+            let cross = s_cur.0 * s_next.1 - s_cur.1 * s_next.0;
+            let dot = s_cur.0 * s_next.0 + s_cur.1 * s_next.1;
+            if cross == S::ZERO && dot < S::ZERO {
+                let ni = normal_at(i);
+                let nj = normal_at(i + 1);
+                return ni.scale(r_next) + nj.scale(r_cur);
+            }
+            let w = (half_tan(s_prev, s_cur, r_prev, r_cur) + half_tan(s_cur, s_next, r_cur, r_next)) / r_cur;
+            sum = sum + normal_at(i).scale(w);
+            wsum = wsum + w;
+            s_prev = s_cur;
+            r_prev = r_cur;
+            s_cur = s_next;
+            r_cur = r_next;
+        }
+        if wsum == S::ZERO {
+            return self.normal;
+        }
+        let interp = sum.scale(S::ONE / wsum);
+        if interp.length_squared() > S::ZERO {
+            interp
+        } else {
+            self.normal
+        }
+    }
+
+    /// Axis-aligned bounds `(min, max)` of the vertices.
+    pub fn bounds(&self, pool: &[Vec3<S>]) -> (Vec3<S>, Vec3<S>) {
+        let verts = self.vertices(pool);
+        let first = verts.first().copied().unwrap_or(Vec3::ZERO);
+        verts.iter().fold((first, first), |(lo, hi), &v| (lo.min_elem(v), hi.max_elem(v)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::primitives::test_util::*;
+    use crate::geom::primitives::Shape;
+
+    fn v(x: f32, y: f32, z: f32) -> Vec3<f32> {
+        Vec3::new(x, y, z)
+    }
+
+    fn poly(pool: &[Vec3<f32>]) -> Polygon<f32> {
+        Polygon::from_pool(pool, 0, pool.len() as u32, false).unwrap()
+    }
+
+    #[test]
+    fn convex_square_hit_and_miss() {
+        let pool = [v(-1.0, -1.0, 0.0), v(1.0, -1.0, 0.0), v(1.0, 1.0, 0.0), v(-1.0, 1.0, 0.0)];
+        let p = poly(&pool);
+        assert!(p.is_convex());
+        assert_eq!(p.normal(), v(0.0, 0.0, 1.0));
+        let s = Shape::Polygon(p);
+        assert_eq!(hits_in(&s, &pool, [0.5, 0.5, 3.0], [0.0, 0.0, -1.0]), vec![3.0]);
+        assert_eq!(hits_in(&s, &pool, [0.5, 0.5, -3.0], [0.0, 0.0, 1.0]), vec![3.0]);
+        assert!(hits_in(&s, &pool, [1.5, 0.5, 3.0], [0.0, 0.0, -1.0]).is_empty());
+        // Parallel to the plane, and behind the origin.
+        assert!(hits_in(&s, &pool, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]).is_empty());
+        assert!(hits_in(&s, &pool, [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]).is_empty());
+    }
+
+    #[test]
+    fn clockwise_outline_also_hits() {
+        let pool = [v(-1.0, 1.0, 0.0), v(1.0, 1.0, 0.0), v(1.0, -1.0, 0.0), v(-1.0, -1.0, 0.0)];
+        let p = poly(&pool);
+        assert_eq!(p.normal(), v(0.0, 0.0, -1.0));
+        assert_eq!(hits_in(&Shape::Polygon(p), &pool, [0.2, -0.3, 2.0], [0.0, 0.0, -1.0]), vec![2.0]);
+    }
+
+    #[test]
+    fn non_convex_l_shape() {
+        // An L in the y = 0 plane; the notch at x, z in (0, 1) x (0, 1)... is empty.
+        let pool = [
+            v(-1.0, 0.0, -1.0),
+            v(1.0, 0.0, -1.0),
+            v(1.0, 0.0, 0.0),
+            v(0.0, 0.0, 0.0),
+            v(0.0, 0.0, 1.0),
+            v(-1.0, 0.0, 1.0),
+        ];
+        let p = poly(&pool);
+        assert!(!p.is_convex());
+        let s = Shape::Polygon(p);
+        assert_eq!(hits_in(&s, &pool, [-0.5, 2.0, 0.5], [0.0, -1.0, 0.0]), vec![2.0]);
+        assert_eq!(hits_in(&s, &pool, [0.5, 2.0, -0.5], [0.0, -1.0, 0.0]), vec![2.0]);
+        assert!(hits_in(&s, &pool, [0.5, 2.0, 0.5], [0.0, -1.0, 0.0]).is_empty());
+    }
+
+    #[test]
+    fn star_polygon_is_not_convex() {
+        // A pentagram: every turn has the same sign, but it winds twice.
+        let mut pool = [Vec3::ZERO; 5];
+        for (k, p) in pool.iter_mut().enumerate() {
+            let a = (k as f32) * 4.0 * core::f32::consts::PI / 5.0;
+            *p = v(libm::cosf(a), libm::sinf(a), 0.0);
+        }
+        let p = poly(&pool);
+        assert!(!p.is_convex());
+        // The centre (inner pentagon) is covered twice: even-odd says outside.
+        assert!(hits_in(&Shape::Polygon(p), &pool, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]).is_empty());
+        // A point tip is inside.
+        assert_eq!(hits_in(&Shape::Polygon(p), &pool, [0.9, 0.0, 1.0], [0.0, 0.0, -1.0]), vec![1.0]);
+    }
+
+    #[test]
+    fn zero_area_polygon_is_kept_but_never_hit() {
+        let pool = [v(0.0, 0.0, 0.0), v(1.0, 1.0, 1.0), v(2.0, 2.0, 2.0)];
+        let p = poly(&pool);
+        assert!(p.is_degenerate());
+        let repeated = [v(0.0, 0.0, 0.0), v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)];
+        assert!(poly(&repeated).is_degenerate());
+        assert!(hits_in(&Shape::Polygon(p), &pool, [1.0, 1.0, 3.0], [0.0, 0.0, -1.0]).is_empty());
+    }
+
+    #[test]
+    fn bad_input_is_rejected() {
+        let pool = [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(f32::NAN, 1.0, 0.0)];
+        assert_eq!(Polygon::from_pool(&pool, 0, 2, false), Err(GeometryError::TooFewVertices(2)));
+        assert_eq!(Polygon::from_pool(&pool, 0, 3, false), Err(GeometryError::NonFinite));
+        assert_eq!(Polygon::from_pool(&pool, 1, 3, false), Err(GeometryError::VertexRange));
+    }
+
+    #[test]
+    fn patch_interpolates_barycentrically_on_triangles() {
+        let pool = [
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(0.0, 1.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(0.0, 1.0, 0.0),
+            v(0.0, 0.0, 1.0),
+        ];
+        let p = Polygon::from_pool(&pool, 0, 3, true).unwrap();
+        let n = p.shading_normal(&pool, v(0.25, 0.25, 0.0));
+        let n = n.scale(1.0 / (n.x + n.y + n.z));
+        assert!((n - v(0.5, 0.25, 0.25)).length() < 1e-6, "{n:?}");
+        // At a vertex and on an edge.
+        assert_eq!(p.shading_normal(&pool, v(1.0, 0.0, 0.0)), v(0.0, 1.0, 0.0));
+        let e = p.shading_normal(&pool, v(0.5, 0.0, 0.0)).normalize_or_zero();
+        assert!((e - v(1.0, 1.0, 0.0).normalize_or_zero()).length() < 1e-6, "{e:?}");
+    }
+
+    #[test]
+    fn patch_quad_center_averages() {
+        let z = v(0.0, 0.0, 1.0);
+        let pool = [
+            v(-1.0, -1.0, 0.0),
+            v(1.0, -1.0, 0.0),
+            v(1.0, 1.0, 0.0),
+            v(-1.0, 1.0, 0.0),
+            v(1.0, 0.0, 1.0),
+            z,
+            v(-1.0, 0.0, 1.0),
+            z,
+        ];
+        let p = Polygon::from_pool(&pool, 0, 4, true).unwrap();
+        let n = p.shading_normal(&pool, v(0.0, 0.0, 0.0)).normalize_or_zero();
+        assert!((n - z).length() < 1e-6, "{n:?}");
+    }
+}

@@ -1,0 +1,477 @@
+//! General quadric `Ax² + By² + Cz² + Dxy + Exz + Fyz + Gx + Hy + Iz + J = 0`,
+//! the named quadrics built on it, and an optional clip box.
+
+use super::error::GeometryError;
+use crate::num::lanes::{Lanes, Mask};
+use crate::geom::ray::{RayPacket, Roots};
+use crate::num::scalar::Scalar;
+use crate::geom::uniform_scale::Similarity;
+use crate::geom::vec3::{Vec3, Vec3xW};
+
+/// A quadric surface, optionally clipped to an axis-aligned box: only the part
+/// inside the box exists, and a ray passes through the clipped-away part to
+/// the next root.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Quadric<S> {
+    /// Coefficients `[A, B, C, D, E, F, G, H, I, J]`.
+    k: [S; 10],
+    clip: Option<(Vec3<S>, Vec3<S>)>,
+}
+
+/// Symmetric 4×4 matrix form of a quadric: `Q(x) = xᵀ M x` with `x = (x, y, z, 1)`.
+type Mat4<S> = [[S; 4]; 4];
+
+impl<S: Scalar> Quadric<S> {
+    /// The quadric with coefficients `[A, B, C, D, E, F, G, H, I, J]`.
+    /// Errors: a non-finite coefficient, or all of `A..I` zero (no surface).
+    pub fn new(k: [S; 10]) -> Result<Self, GeometryError> {
+        if k.iter().any(|c| !c.is_finite()) {
+            return Err(GeometryError::NonFinite);
+        }
+        if k[..9].iter().all(|&c| c == S::ZERO) {
+            return Err(GeometryError::DegenerateQuadric);
+        }
+        Ok(Quadric { k, clip: None })
+    }
+
+    /// The same quadric, keeping only its part inside the box between the
+    /// corners `a` and `b` (in any order).
+    pub fn with_clip(mut self, a: Vec3<S>, b: Vec3<S>) -> Result<Self, GeometryError> {
+        if !a.is_finite() || !b.is_finite() {
+            return Err(GeometryError::NonFinite);
+        }
+        self.clip = Some((a.min_elem(b), a.max_elem(b)));
+        Ok(self)
+    }
+
+    /// The same quadric in the frame of `sim`, with scalar `T`, computed in
+    /// `f32`. With `x = x'/s + o`, `Q(x) = 0` is multiplied through by `s²`
+    /// (and then by `1/max(|A|..|F|)`)
+    /// (same surface; the tracer normalizes gradients and roots do not
+    /// depend on a common factor): the quadratic coefficients stay, the
+    /// linear ones become `s·(∇Q(o)/2 · 2)` per axis (`G' = s(2A·oₓ + D·o_y +
+    /// E·o_z + G)`, and so on), and `J' = s²·Q(o)`.
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Quadric<T> {
+        let [a, b, c, d, e, f, g, h, i, j] = self.k.map(|v| v.to_f32());
+        let [x, y, z] = sim.origin;
+        let s = sim.scale;
+        let gx = 2.0 * a * x + d * y + e * z + g;
+        let gy = 2.0 * b * y + d * x + f * z + h;
+        let gz = 2.0 * c * z + e * x + f * y + i;
+        let q = a * x * x + b * y * y + c * z * z + d * x * y + e * x * z + f * y * z + g * x + h * y + i * z + j;
+        // The surface does not change when every coefficient is divided by
+        // the same number: the largest of `A..F` becomes 1, so a
+        // limited-range scalar's intermediates stay small.
+        let m = [a, b, c, d, e, f].iter().fold(0.0f32, |m, v| m.max(v.abs()));
+        let norm = if m > 0.0 && m.is_finite() { 1.0 / m } else { 1.0 };
+        let k = [a, b, c, d, e, f, gx * s, gy * s, gz * s, q * s * s].map(|v| T::from_f32(v * norm));
+        Quadric { k, clip: self.clip.map(|(lo, hi)| (sim.point(lo), sim.point(hi))) }
+    }
+
+    /// The coefficients `[A, B, C, D, E, F, G, H, I, J]`.
+    pub fn coefficients(&self) -> [S; 10] {
+        self.k
+    }
+    /// The clip box, if any.
+    pub fn clip_box(&self) -> Option<(Vec3<S>, Vec3<S>)> {
+        self.clip
+    }
+
+    /// A quadric given in a local frame (origin `center`, orthonormal axes
+    /// `u, v, w` as local x, y, z), with local coefficients `local`, expressed
+    /// in world coordinates: `M_world = Tᵀ M_local T` where `T` maps world to
+    /// local points.
+    fn from_local(local: [S; 10], center: Vec3<S>, u: Vec3<S>, v: Vec3<S>, w: Vec3<S>) -> Result<Self, GeometryError> {
+        let m = to_matrix(local);
+        // T = [[Rᵀ, −Rᵀc], [0, 1]]: rows are u, v, w (and the homogeneous row).
+        let t: Mat4<S> = [
+            [u.x, u.y, u.z, -u.dot(center)],
+            [v.x, v.y, v.z, -v.dot(center)],
+            [w.x, w.y, w.z, -w.dot(center)],
+            [S::ZERO, S::ZERO, S::ZERO, S::ONE],
+        ];
+        // Compute M T, then Tᵀ (M T).
+        let mut mt = [[S::ZERO; 4]; 4];
+        for i in 0..4 {
+            for j in 0..4 {
+                let mut s = S::ZERO;
+                for k in 0..4 {
+                    s = s + m[i][k] * t[k][j];
+                }
+                mt[i][j] = s;
+            }
+        }
+        let mut out = [[S::ZERO; 4]; 4];
+        for i in 0..4 {
+            for j in 0..4 {
+                let mut s = S::ZERO;
+                for k in 0..4 {
+                    s = s + t[k][i] * mt[k][j];
+                }
+                out[i][j] = s;
+            }
+        }
+        Self::new(from_matrix(out))
+    }
+
+    /// A frame whose local z is `axis` (normalized), around `center`.
+    fn frame(center: Vec3<S>, axis: Vec3<S>) -> Result<(Vec3<S>, Vec3<S>, Vec3<S>), GeometryError> {
+        if !center.is_finite() || !axis.is_finite() {
+            return Err(GeometryError::NonFinite);
+        }
+        let w = axis.normalize_or_zero();
+        if w == Vec3::ZERO {
+            return Err(GeometryError::ZeroLengthAxis);
+        }
+        let (u, v) = w.orthonormal_basis();
+        Ok((u, v, w))
+    }
+
+    fn positive(values: &[S]) -> Result<(), GeometryError> {
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(GeometryError::NonFinite);
+        }
+        if values.iter().any(|&v| !(v > S::ZERO)) {
+            return Err(GeometryError::NonPositiveRadius);
+        }
+        Ok(())
+    }
+
+    /// Ellipsoid with semi-axes `radii` along the world axes.
+    pub fn ellipsoid(center: Vec3<S>, radii: Vec3<S>) -> Result<Self, GeometryError> {
+        Self::positive(&[radii.x, radii.y, radii.z])?;
+        let x = Vec3::new(S::ONE, S::ZERO, S::ZERO);
+        let y = Vec3::new(S::ZERO, S::ONE, S::ZERO);
+        let z = Vec3::new(S::ZERO, S::ZERO, S::ONE);
+        Self::ellipsoid_oriented(center, radii, x, y, z)
+    }
+
+    /// Ellipsoid with semi-axes `radii` along the orthonormal axes `u, v, w`.
+    pub fn ellipsoid_oriented(
+        center: Vec3<S>,
+        radii: Vec3<S>,
+        u: Vec3<S>,
+        v: Vec3<S>,
+        w: Vec3<S>,
+    ) -> Result<Self, GeometryError> {
+        Self::positive(&[radii.x, radii.y, radii.z])?;
+        if !center.is_finite() {
+            return Err(GeometryError::NonFinite);
+        }
+        let inv2 = |r: S| S::ONE / (r * r);
+        let z = S::ZERO;
+        Self::from_local([inv2(radii.x), inv2(radii.y), inv2(radii.z), z, z, z, z, z, z, -S::ONE], center, u, v, w)
+    }
+
+    /// Infinite circular cylinder of `radius` around the line through `point`
+    /// along `axis`.
+    pub fn cylinder(point: Vec3<S>, axis: Vec3<S>, radius: S) -> Result<Self, GeometryError> {
+        Self::positive(&[radius])?;
+        let (u, v, w) = Self::frame(point, axis)?;
+        let z = S::ZERO;
+        Self::from_local([S::ONE, S::ONE, z, z, z, z, z, z, z, -(radius * radius)], point, u, v, w)
+    }
+
+    /// Infinite double cone with apex `apex`, axis `axis` and half-angle
+    /// `half_angle` (radians, in `(0, π/2)`): `x² + y² = tan²θ · z²` locally.
+    pub fn cone(apex: Vec3<S>, axis: Vec3<S>, half_angle: f32) -> Result<Self, GeometryError> {
+        if !half_angle.is_finite() {
+            return Err(GeometryError::NonFinite);
+        }
+        if !(half_angle > 0.0 && half_angle < core::f32::consts::FRAC_PI_2) {
+            return Err(GeometryError::NonPositiveRadius);
+        }
+        let t = S::from_f32(libm::tanf(half_angle));
+        let (u, v, w) = Self::frame(apex, axis)?;
+        let z = S::ZERO;
+        Self::from_local([S::ONE, S::ONE, -(t * t), z, z, z, z, z, z, z], apex, u, v, w)
+    }
+
+    /// Circular paraboloid with vertex `vertex`, opening along `axis`, with
+    /// focal length `focal`: `x² + y² = 4f·z` locally.
+    pub fn paraboloid(vertex: Vec3<S>, axis: Vec3<S>, focal: S) -> Result<Self, GeometryError> {
+        Self::positive(&[focal])?;
+        let (u, v, w) = Self::frame(vertex, axis)?;
+        let z = S::ZERO;
+        let four = S::TWO + S::TWO;
+        Self::from_local([S::ONE, S::ONE, z, z, z, z, z, z, -(four * focal), z], vertex, u, v, w)
+    }
+
+    /// Hyperboloid of one sheet around `axis`: `(x² + y²)/a² − z²/c² = 1`
+    /// locally (waist radius `a`).
+    pub fn hyperboloid_one_sheet(center: Vec3<S>, axis: Vec3<S>, a: S, c: S) -> Result<Self, GeometryError> {
+        Self::positive(&[a, c])?;
+        let (u, v, w) = Self::frame(center, axis)?;
+        let z = S::ZERO;
+        let ia = S::ONE / (a * a);
+        let ic = S::ONE / (c * c);
+        Self::from_local([ia, ia, -ic, z, z, z, z, z, z, -S::ONE], center, u, v, w)
+    }
+
+    /// Hyperboloid of two sheets along `axis`: `z²/c² − (x² + y²)/a² = 1`
+    /// locally (vertices at `z = ±c`).
+    pub fn hyperboloid_two_sheets(center: Vec3<S>, axis: Vec3<S>, a: S, c: S) -> Result<Self, GeometryError> {
+        Self::positive(&[a, c])?;
+        let (u, v, w) = Self::frame(center, axis)?;
+        let z = S::ZERO;
+        let ia = S::ONE / (a * a);
+        let ic = S::ONE / (c * c);
+        Self::from_local([-ia, -ia, ic, z, z, z, z, z, z, -S::ONE], center, u, v, w)
+    }
+
+    /// The value `Q(p)` (zero on the surface).
+    pub fn eval(&self, p: Vec3<S>) -> S {
+        let [a, b, c, d, e, f, g, h, i, j] = self.k;
+        a * p.x * p.x
+            + b * p.y * p.y
+            + c * p.z * p.z
+            + d * p.x * p.y
+            + e * p.x * p.z
+            + f * p.y * p.z
+            + g * p.x
+            + h * p.y
+            + i * p.z
+            + j
+    }
+
+    /// Crossings of each active ray with the (clipped) quadric in `(t_min, t_max)`.
+    // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
+    // the one target without 32-bit atomics), where the copies would not fit
+    // a small flash: there each kernel is one function per packet width.
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
+    pub fn roots<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Roots<S, W> {
+        let [a, b, c, d, e, f, g, h, i, j] = self.k;
+        let (o, dir) = (&ray.origin, &ray.dir);
+        let (ox, oy, oz) = (o.x, o.y, o.z);
+        let (dx, dy, dz) = (dir.x, dir.y, dir.z);
+        // Substitute x = o + t·d: a_q t² + b_q t + c_q = 0.
+        let aq = dx * dx * a + dy * dy * b + dz * dz * c + dx * dy * d + dx * dz * e + dy * dz * f;
+        let bq = (ox * dx * a + oy * dy * b + oz * dz * c) * S::TWO
+            + (ox * dy + oy * dx) * d
+            + (ox * dz + oz * dx) * e
+            + (oy * dz + oz * dy) * f
+            + dx * g
+            + dy * h
+            + dz * i;
+        let cq = ox * ox * a
+            + oy * oy * b
+            + oz * oz * c
+            + ox * oy * d
+            + ox * oz * e
+            + oy * oz * f
+            + ox * g
+            + oy * h
+            + oz * i
+            + Lanes::splat(j);
+        // Compute the discriminant; with a_q = 0 the equation is linear.
+        let four = S::TWO + S::TWO;
+        let disc = bq * bq - aq * cq * four;
+        let linear = aq.eq_lanes(Lanes::zero());
+        let quad = active & !linear & disc.ge(Lanes::zero());
+        let lin = active & linear & bq.ne_lanes(Lanes::zero());
+        if (quad | lin).none() {
+            return Roots::none();
+        }
+        // q = −½(b + sign(b)·√Δ): no cancellation; roots q/a and c/q.
+        let sq = Lanes::select(quad, disc, Lanes::zero()).sqrt();
+        let q = Lanes::select(bq.ge(Lanes::zero()), -(bq + sq), sq - bq) * S::HALF;
+        let q_ok = q.ne_lanes(Lanes::zero());
+        let r0 = q.div_nonzero(aq);
+        let r1 = cq.div_nonzero(q);
+        // Linear lanes: the single root −c/b.
+        let rl = (-cq).div_nonzero(bq);
+        let mut t0 = Lanes::select(lin, rl, r0);
+        let mut ok0 = quad | lin;
+        // q = 0 only when b = 0 and Δ = 0: a double root at q/a = 0 ... then c = 0 too.
+        let mut ok1 = quad & q_ok;
+        let mut t1 = r1;
+        if let Some((lo, hi)) = self.clip {
+            // A root outside the clip box does not exist; the ray goes on to
+            // the other root.
+            ok0 &= inside_box(ray.at(t0), lo, hi);
+            ok1 &= inside_box(ray.at(t1), lo, hi);
+        }
+        t0 = Lanes::select(ok0, t0, Lanes::splat(S::MAX));
+        t1 = Lanes::select(ok1, t1, Lanes::splat(S::MAX));
+        Roots::from_candidates(t0, ok0, t1, ok1, t_min, t_max)
+    }
+
+    /// Outward normal (the gradient, not normalized) at a point.
+    #[inline]
+    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
+        let [a, b, c, d, e, f, g, h, i, _] = self.k;
+        Vec3::new(
+            S::TWO * a * p.x + d * p.y + e * p.z + g,
+            S::TWO * b * p.y + d * p.x + f * p.z + h,
+            S::TWO * c * p.z + e * p.x + f * p.y + i,
+        )
+    }
+
+    /// [`Quadric::normal`] of every lane of `p` (the same operations per
+    /// lane; products commute exactly, sums keep their order).
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        let [a, b, c, d, e, f, g, h, i, _] = self.k;
+        Vec3::new(
+            p.x * (S::TWO * a) + p.y * d + p.z * e + g,
+            p.y * (S::TWO * b) + p.x * d + p.z * f + h,
+            p.z * (S::TWO * c) + p.x * e + p.y * f + i,
+        )
+    }
+}
+
+/// The symmetric matrix of coefficients `[A..J]`.
+fn to_matrix<S: Scalar>(k: [S; 10]) -> Mat4<S> {
+    let [a, b, c, d, e, f, g, h, i, j] = k;
+    let hf = S::HALF;
+    [[a, d * hf, e * hf, g * hf], [d * hf, b, f * hf, h * hf], [e * hf, f * hf, c, i * hf], [g * hf, h * hf, i * hf, j]]
+}
+
+/// Coefficients `[A..J]` of a symmetric matrix (off-diagonal pairs summed).
+fn from_matrix<S: Scalar>(m: Mat4<S>) -> [S; 10] {
+    [
+        m[0][0],
+        m[1][1],
+        m[2][2],
+        m[0][1] + m[1][0],
+        m[0][2] + m[2][0],
+        m[1][2] + m[2][1],
+        m[0][3] + m[3][0],
+        m[1][3] + m[3][1],
+        m[2][3] + m[3][2],
+        m[3][3],
+    ]
+}
+
+/// Lanes whose point lies in the closed box `[lo, hi]`. A function rather
+/// than a closure so that it is always inlined (see `dispatch`).
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+fn inside_box<S: Scalar, const W: usize>(p: crate::geom::vec3::Vec3xW<S, W>, lo: Vec3<S>, hi: Vec3<S>) -> Mask<W> {
+    p.x.ge(Lanes::splat(lo.x))
+        & p.x.le(Lanes::splat(hi.x))
+        & p.y.ge(Lanes::splat(lo.y))
+        & p.y.le(Lanes::splat(hi.y))
+        & p.z.ge(Lanes::splat(lo.z))
+        & p.z.le(Lanes::splat(hi.z))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::primitives::test_util::*;
+    use crate::geom::primitives::Shape;
+
+    fn close(a: &[f32], b: &[f32]) -> bool {
+        a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-4)
+    }
+
+    #[test]
+    fn unit_sphere_as_quadric() {
+        let q = Shape::Quadric(Quadric::new([1.0f32, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]).unwrap());
+        assert_eq!(hits(&q, [0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), vec![4.0, 6.0]);
+        assert_eq!(hits(&q, [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]), vec![1.0]);
+        assert!(hits(&q, [0.0, 2.0, -5.0], [0.0, 0.0, 1.0]).is_empty());
+        assert!(hits(&q, [0.0, 0.0, 5.0], [0.0, 0.0, 1.0]).is_empty());
+    }
+
+    #[test]
+    fn linear_case_paraboloid_along_axis() {
+        // z = x² + y², hit along its axis from above: a_q = 0, one root.
+        let q = Shape::Quadric(Quadric::new([1.0f32, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0]).unwrap());
+        assert_eq!(hits(&q, [0.0, 0.0, 5.0], [0.0, 0.0, -1.0]), vec![5.0]);
+        // A plane x = 2 written as a quadric is purely linear too.
+        let p = Shape::Quadric(Quadric::new([0.0f32, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -2.0]).unwrap());
+        assert_eq!(hits(&p, [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]), vec![2.0]);
+        assert!(hits(&p, [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]).is_empty());
+    }
+
+    #[test]
+    fn cylinder_along_any_axis() {
+        let axis = Vec3::new(1.0f32, 1.0, 0.0);
+        let c = Shape::Quadric(Quadric::cylinder(Vec3::new(0.0, 0.0, 0.0), axis, 1.0).unwrap());
+        // Shoot along z through the axis: hits at ±1.
+        assert!(close(&hits(&c, [0.3, 0.3, -5.0], [0.0, 0.0, 1.0]), &[4.0, 6.0]));
+        // Parallel to the axis inside: no hit; outside: no hit.
+        assert!(hits(&c, [0.0, 0.0, 0.5], [1.0, 1.0, 0.0]).is_empty());
+        assert!(hits(&c, [0.0, 0.0, 2.0], [1.0, 1.0, 0.0]).is_empty());
+    }
+
+    #[test]
+    fn named_quadrics_hit_where_expected() {
+        let o = Vec3::new(0.0f32, 0.0, 0.0);
+        let z = Vec3::new(0.0f32, 0.0, 1.0);
+        let e = Shape::Quadric(Quadric::ellipsoid(o, Vec3::new(1.0, 2.0, 3.0)).unwrap());
+        assert!(close(&hits(&e, [0.0, -5.0, 0.0], [0.0, 1.0, 0.0]), &[3.0, 7.0]));
+        assert!(close(&hits(&e, [0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), &[2.0, 8.0]));
+        let cone = Shape::Quadric(Quadric::cone(o, z, core::f32::consts::FRAC_PI_4).unwrap());
+        // At z = 2 the radius is 2.
+        assert!(close(&hits(&cone, [-5.0, 0.0, 2.0], [1.0, 0.0, 0.0]), &[3.0, 7.0]));
+        let par = Shape::Quadric(Quadric::paraboloid(o, z, 0.25).unwrap());
+        // x² + y² = z: at z = 4 the radius is 2.
+        assert!(close(&hits(&par, [-5.0, 0.0, 4.0], [1.0, 0.0, 0.0]), &[3.0, 7.0]));
+        let h1 = Shape::Quadric(Quadric::hyperboloid_one_sheet(o, z, 1.0, 1.0).unwrap());
+        // Waist radius 1 at z = 0; at z = 1 the radius is √2.
+        assert!(close(&hits(&h1, [-5.0, 0.0, 0.0], [1.0, 0.0, 0.0]), &[4.0, 6.0]));
+        let s2 = 2.0f32.sqrt();
+        assert!(close(&hits(&h1, [-5.0, 0.0, 1.0], [1.0, 0.0, 0.0]), &[5.0 - s2, 5.0 + s2]));
+        let h2 = Shape::Quadric(Quadric::hyperboloid_two_sheets(o, z, 1.0, 1.0).unwrap());
+        // Along the axis: vertices at z = ±1.
+        assert!(close(&hits(&h2, [0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), &[4.0, 6.0]));
+        // Between the sheets, sideways: nothing.
+        assert!(hits(&h2, [-5.0, 0.0, 0.0], [1.0, 0.0, 0.0]).is_empty());
+    }
+
+    #[test]
+    fn clip_box_skips_to_next_root() {
+        // Unit sphere keeping only z <= 0.5: a ray up the z axis from below
+        // enters at z = -1 but its exit at z = +1 is clipped away.
+        let q = Quadric::new([1.0f32, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0])
+            .unwrap()
+            .with_clip(Vec3::new(-2.0, -2.0, -2.0), Vec3::new(2.0, 2.0, 0.5))
+            .unwrap();
+        let s = Shape::Quadric(q);
+        assert_eq!(hits(&s, [0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), vec![4.0]);
+        // From above, the near root is clipped: the ray passes through to the far one.
+        assert_eq!(hits(&s, [0.0, 0.0, 5.0], [0.0, 0.0, -1.0]), vec![6.0]);
+    }
+
+    #[test]
+    fn finite_cylinder_from_clip() {
+        let c = Quadric::cylinder(Vec3::new(0.0f32, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0), 1.0)
+            .unwrap()
+            .with_clip(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 2.0))
+            .unwrap();
+        let s = Shape::Quadric(c);
+        assert!(close(&hits(&s, [-5.0, 0.0, 1.0], [1.0, 0.0, 0.0]), &[4.0, 6.0]));
+        assert!(hits(&s, [-5.0, 0.0, 3.0], [1.0, 0.0, 0.0]).is_empty());
+    }
+
+    #[test]
+    fn gradient_normal_points_outward() {
+        let q = Quadric::new([1.0f32, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]).unwrap();
+        assert_eq!(q.normal(Vec3::new(0.0, 1.0, 0.0)), Vec3::new(0.0, 2.0, 0.0));
+    }
+
+    #[test]
+    fn degenerate_input_is_rejected() {
+        let z = [0.0f32; 10];
+        assert_eq!(Quadric::new(z), Err(GeometryError::DegenerateQuadric));
+        let mut n = z;
+        n[0] = f32::NAN;
+        assert_eq!(Quadric::new(n), Err(GeometryError::NonFinite));
+        let o = Vec3::new(0.0f32, 0.0, 0.0);
+        assert_eq!(Quadric::cylinder(o, Vec3::ZERO, 1.0), Err(GeometryError::ZeroLengthAxis));
+        assert_eq!(Quadric::cylinder(o, Vec3::new(0.0, 0.0, 1.0), 0.0), Err(GeometryError::NonPositiveRadius));
+        assert_eq!(Quadric::ellipsoid(o, Vec3::new(1.0, -1.0, 1.0)), Err(GeometryError::NonPositiveRadius));
+        assert_eq!(Quadric::cone(o, Vec3::new(0.0, 0.0, 1.0), 2.0), Err(GeometryError::NonPositiveRadius));
+    }
+}

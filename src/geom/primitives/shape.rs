@@ -1,0 +1,171 @@
+//! [`Shape`]: the closed set of primitives a scene stores, and the three
+//! operations every primitive has, dispatched on its kind.
+
+use super::{AaBox, Cone, OrientedBox, Plane, Polygon, Quadric, Sphere};
+use crate::num::lanes::{Lanes, Mask};
+use crate::geom::ray::{RayPacket, Roots};
+use crate::num::scalar::Scalar;
+use crate::geom::uniform_scale::Similarity;
+use crate::geom::vec3::{Vec3, Vec3xW};
+
+/// The kinds of primitive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShapeKind {
+    /// [`Sphere`].
+    Sphere,
+    /// [`Plane`].
+    Plane,
+    /// [`Polygon`] without vertex normals.
+    Polygon,
+    /// [`Polygon`] with vertex normals (NFF `pp`).
+    Patch,
+    /// [`AaBox`].
+    AaBox,
+    /// [`OrientedBox`].
+    OrientedBox,
+    /// [`Quadric`].
+    Quadric,
+    /// [`Cone`].
+    Cone,
+}
+
+/// One primitive of any kind.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape<S> {
+    /// A sphere.
+    Sphere(Sphere<S>),
+    /// An infinite plane.
+    Plane(Plane<S>),
+    /// A polygon or polygon patch (vertices in the scene's pool).
+    Polygon(Polygon<S>),
+    /// An axis-aligned box.
+    AaBox(AaBox<S>),
+    /// An oriented box.
+    OrientedBox(OrientedBox<S>),
+    /// A general (optionally clipped) quadric.
+    Quadric(Quadric<S>),
+    /// A finite open cone or cylinder.
+    Cone(Cone<S>),
+}
+
+impl<S: Scalar> Shape<S> {
+    /// The kind of this primitive.
+    pub fn kind(&self) -> ShapeKind {
+        match self {
+            Shape::Sphere(_) => ShapeKind::Sphere,
+            Shape::Plane(_) => ShapeKind::Plane,
+            Shape::Polygon(p) if p.is_patch() => ShapeKind::Patch,
+            Shape::Polygon(_) => ShapeKind::Polygon,
+            Shape::AaBox(_) => ShapeKind::AaBox,
+            Shape::OrientedBox(_) => ShapeKind::OrientedBox,
+            Shape::Quadric(_) => ShapeKind::Quadric,
+            Shape::Cone(_) => ShapeKind::Cone,
+        }
+    }
+
+    /// The same primitive in the frame of `sim`, with scalar `T` (see
+    /// [`crate::geom::uniform_scale`]); a polygon refers to the scene's vertex pool
+    /// converted in the same order.
+    pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Shape<T> {
+        match self {
+            Shape::Sphere(s) => Shape::Sphere(s.similar(sim)),
+            Shape::Plane(p) => Shape::Plane(p.similar(sim)),
+            Shape::Polygon(p) => Shape::Polygon(p.similar(sim)),
+            Shape::AaBox(b) => Shape::AaBox(b.similar(sim)),
+            Shape::OrientedBox(b) => Shape::OrientedBox(b.similar(sim)),
+            Shape::Quadric(q) => Shape::Quadric(q.similar(sim)),
+            Shape::Cone(c) => Shape::Cone(c.similar(sim)),
+        }
+    }
+
+    /// Crossings of each active ray with the surface in `(t_min, t_max)`.
+    /// `pool` is the scene's vertex pool (used by polygons).
+    // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
+    // the one target without 32-bit atomics), where the copies would not fit
+    // a small flash: there each kernel is one function per packet width.
+    #[cfg_attr(
+        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        inline(always)
+    )]
+    pub fn roots<const W: usize>(
+        &self,
+        pool: &[Vec3<S>],
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Roots<S, W> {
+        match self {
+            Shape::Sphere(s) => s.roots(ray, t_min, t_max, active),
+            Shape::Plane(p) => p.roots(ray, t_min, t_max, active),
+            Shape::Polygon(p) => p.roots(pool, ray, t_min, t_max, active),
+            Shape::AaBox(b) => b.roots(ray, t_min, t_max, active),
+            Shape::OrientedBox(b) => b.roots(ray, t_min, t_max, active),
+            Shape::Quadric(q) => q.roots(ray, t_min, t_max, active),
+            Shape::Cone(c) => c.roots(ray, t_min, t_max, active),
+        }
+    }
+
+    /// Outward geometric normal at a surface point (not normalized; may be
+    /// zero at a singular point such as a cone's apex).
+    #[inline]
+    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
+        match self {
+            Shape::Sphere(s) => s.normal(p),
+            Shape::Plane(pl) => pl.normal(p),
+            Shape::Polygon(pg) => pg.normal(),
+            Shape::AaBox(b) => b.normal(p),
+            Shape::OrientedBox(b) => b.normal(p),
+            Shape::Quadric(q) => q.normal(p),
+            Shape::Cone(c) => c.normal(p),
+        }
+    }
+
+    /// [`Shape::normal`] of every lane of `p` (for the lanes that hit this
+    /// primitive; others hold whatever the formula gives), as lane
+    /// operations: the same operations per lane as the one-point form, so
+    /// the same bits.
+    #[inline(always)]
+    pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        match self {
+            Shape::Sphere(s) => s.normals(p),
+            Shape::Plane(pl) => pl.normal_vector().splat(),
+            Shape::Polygon(pg) => pg.normal().splat(),
+            Shape::AaBox(b) => b.normals(p),
+            Shape::OrientedBox(b) => b.normals(p),
+            Shape::Quadric(q) => q.normals(p),
+            Shape::Cone(c) => c.normals(p),
+        }
+    }
+
+    /// Whether the shading normal differs from the geometric one (polygon
+    /// patches interpolate vertex normals).
+    #[inline(always)]
+    pub fn has_shading_normals(&self) -> bool {
+        matches!(self, Shape::Polygon(pg) if pg.is_patch())
+    }
+
+    /// Normal used for shading (interpolated on patches; the geometric normal
+    /// elsewhere). Not normalized.
+    #[inline]
+    pub fn shading_normal(&self, pool: &[Vec3<S>], p: Vec3<S>, geometric: Vec3<S>) -> Vec3<S> {
+        match self {
+            Shape::Polygon(pg) if pg.is_patch() => pg.shading_normal(pool, p),
+            _ => geometric,
+        }
+    }
+
+    /// Axis-aligned bounds `(min, max)`, or `None` for unbounded primitives
+    /// (planes and unclipped quadrics).
+    pub fn bounds(&self, pool: &[Vec3<S>]) -> Option<(Vec3<S>, Vec3<S>)> {
+        match self {
+            Shape::Sphere(s) => Some(s.bounds()),
+            Shape::Plane(_) => None,
+            Shape::Polygon(p) => Some(p.bounds(pool)),
+            Shape::AaBox(b) => Some((b.min(), b.max())),
+            Shape::OrientedBox(b) => Some(b.bounds()),
+            Shape::Quadric(q) => q.clip_box(),
+            Shape::Cone(c) => Some(c.bounds()),
+        }
+    }
+}

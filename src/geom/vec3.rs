@@ -1,0 +1,270 @@
+//! Three-component vectors, for single values ([`Vec3<S>`]) and for packets
+//! ([`Vec3<Lanes<S, W>>`], structure of arrays: three lane vectors).
+//!
+//! The same generic operations serve both forms, so scalar set-up code and
+//! packet kernels share one definition of `dot`, `cross` and friends.
+
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
+use core::ops::{Add, Mul, Neg, Sub};
+
+/// A vector with components of type `T` (a scalar, or lanes of scalars).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Vec3<T> {
+    /// x component.
+    pub x: T,
+    /// y component.
+    pub y: T,
+    /// z component.
+    pub z: T,
+}
+
+/// A packet of vectors: `W` vectors stored as three lane arrays.
+pub type Vec3xW<S, const W: usize> = Vec3<Lanes<S, W>>;
+
+impl<T> Vec3<T> {
+    /// A vector from its components.
+    #[inline(always)]
+    pub const fn new(x: T, y: T, z: T) -> Self {
+        Vec3 { x, y, z }
+    }
+}
+
+impl<T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T>> Vec3<T> {
+    /// Dot product, summed as `x + y + z` (this order, always).
+    #[inline(always)]
+    pub fn dot(self, o: Self) -> T {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+    /// Cross product.
+    #[inline(always)]
+    pub fn cross(self, o: Self) -> Self {
+        Vec3::new(self.y * o.z - self.z * o.y, self.z * o.x - self.x * o.z, self.x * o.y - self.y * o.x)
+    }
+    /// Squared length.
+    #[inline(always)]
+    pub fn length_squared(self) -> T {
+        self.dot(self)
+    }
+    /// Every component multiplied by `s`.
+    #[inline(always)]
+    pub fn scale(self, s: T) -> Self {
+        Vec3::new(self.x * s, self.y * s, self.z * s)
+    }
+    /// Component-wise product.
+    #[inline(always)]
+    pub fn mul_elem(self, o: Self) -> Self {
+        Vec3::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+}
+
+impl<T: Add<Output = T>> Add for Vec3<T> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Vec3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+impl<T: Sub<Output = T>> Sub for Vec3<T> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Vec3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+impl<T: Neg<Output = T>> Neg for Vec3<T> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Vec3::new(-self.x, -self.y, -self.z)
+    }
+}
+
+impl<S: Scalar> Vec3<S> {
+    /// The zero vector.
+    pub const ZERO: Self = Vec3::new(S::ZERO, S::ZERO, S::ZERO);
+
+    /// A vector from `f32` components (set-up time).
+    #[inline]
+    pub fn from_f32(x: f32, y: f32, z: f32) -> Self {
+        Vec3::new(S::from_f32(x), S::from_f32(y), S::from_f32(z))
+    }
+    /// The components as `f32` (for reports and tests).
+    #[inline]
+    pub fn to_f32(self) -> [f32; 3] {
+        [self.x.to_f32(), self.y.to_f32(), self.z.to_f32()]
+    }
+    /// Length.
+    #[inline(always)]
+    pub fn length(self) -> S {
+        self.length_squared().sqrt()
+    }
+    /// Unit vector in the same direction; the zero vector (and any vector
+    /// whose length is not a positive number) gives the zero vector.
+    #[inline]
+    pub fn normalize_or_zero(self) -> Self {
+        // Fixed point: first bring the largest component near 1 (exactly,
+        // by a power of two), so the squared length neither overflows nor
+        // loses its digits (see `Scalar::NORMALIZE_PRESCALE`).
+        let v = if S::NORMALIZE_PRESCALE { self.scale(self.max_abs().normalizing_factor()) } else { self };
+        let len = v.length();
+        if len > S::ZERO && len.is_finite() {
+            v.scale(S::ONE / len)
+        } else {
+            Self::ZERO
+        }
+    }
+    /// Whether every component is finite.
+    #[inline]
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
+    }
+    /// Largest absolute component.
+    #[inline(always)]
+    pub fn max_abs(self) -> S {
+        self.x.abs().max(self.y.abs()).max(self.z.abs())
+    }
+    /// Component-wise minimum.
+    #[inline]
+    pub fn min_elem(self, o: Self) -> Self {
+        Vec3::new(self.x.min(o.x), self.y.min(o.y), self.z.min(o.z))
+    }
+    /// Component-wise maximum.
+    #[inline]
+    pub fn max_elem(self, o: Self) -> Self {
+        Vec3::new(self.x.max(o.x), self.y.max(o.y), self.z.max(o.z))
+    }
+    /// Component `axis` (0 = x, 1 = y, anything else = z).
+    #[inline(always)]
+    pub fn axis(self, axis: usize) -> S {
+        match axis {
+            0 => self.x,
+            1 => self.y,
+            _ => self.z,
+        }
+    }
+    /// The same vector in every lane of a packet.
+    #[inline(always)]
+    pub fn splat<const W: usize>(self) -> Vec3xW<S, W> {
+        Vec3::new(Lanes::splat(self.x), Lanes::splat(self.y), Lanes::splat(self.z))
+    }
+    /// An orthonormal basis `(u, v)` completing the unit vector `self` (as
+    /// `w`) to a right-handed frame `u × v = w`. Deterministic: the same
+    /// input always gives the same frame.
+    pub fn orthonormal_basis(self) -> (Self, Self) {
+        // Pick the world axis least aligned with w, so the cross product is
+        // well conditioned.
+        let a = if self.x.abs() <= self.y.abs() && self.x.abs() <= self.z.abs() {
+            Vec3::new(S::ONE, S::ZERO, S::ZERO)
+        } else if self.y.abs() <= self.z.abs() {
+            Vec3::new(S::ZERO, S::ONE, S::ZERO)
+        } else {
+            Vec3::new(S::ZERO, S::ZERO, S::ONE)
+        };
+        let u = a.cross(self).normalize_or_zero();
+        let v = self.cross(u);
+        (u, v)
+    }
+}
+
+impl<S: Scalar, const W: usize> Vec3xW<S, W> {
+    /// The vector of lane `i`.
+    #[inline(always)]
+    pub fn lane(&self, i: usize) -> Vec3<S> {
+        Vec3::new(self.x.0[i], self.y.0[i], self.z.0[i])
+    }
+    /// Stores `v` into lane `i`.
+    #[inline(always)]
+    pub fn set_lane(&mut self, i: usize, v: Vec3<S>) {
+        self.x.0[i] = v.x;
+        self.y.0[i] = v.y;
+        self.z.0[i] = v.z;
+    }
+    /// Lane-wise `select` of whole vectors.
+    #[inline(always)]
+    pub fn select(m: Mask<W>, a: Self, b: Self) -> Self {
+        Vec3::new(Lanes::select(m, a.x, b.x), Lanes::select(m, a.y, b.y), Lanes::select(m, a.z, b.z))
+    }
+    /// Per-lane unit vectors; lanes whose length is zero (or not finite)
+    /// become zero vectors and are cleared in the returned mask.
+    #[inline(always)]
+    pub fn normalize(self) -> (Self, Mask<W>) {
+        // Fixed point: the largest component brought near 1 first, exactly
+        // (see `Scalar::NORMALIZE_PRESCALE`).
+        let v = if S::NORMALIZE_PRESCALE {
+            let m = self.x.abs().max(self.y.abs()).max(self.z.abs());
+            self.scale(m.map(S::normalizing_factor))
+        } else {
+            self
+        };
+        let len = v.length_squared().sqrt();
+        let ok = len.gt(Lanes::zero()) & len.finite();
+        let inv = Lanes::splat(S::ONE).div_nonzero(Lanes::select(ok, len, Lanes::splat(S::ZERO)));
+        let n = v.scale(inv);
+        (Self::select(ok, n, Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero())), ok)
+    }
+    /// Component `axis` (0 = x, 1 = y, anything else = z) of every lane.
+    #[inline(always)]
+    pub fn axis(&self, axis: usize) -> Lanes<S, W> {
+        match axis {
+            0 => self.x,
+            1 => self.y,
+            _ => self.z,
+        }
+    }
+    /// Every component multiplied by the lanes `s` (a packet of vectors
+    /// splatted from one vector, scaled per lane).
+    #[inline(always)]
+    pub fn scale_lanes(self, s: Lanes<S, W>) -> Self {
+        Vec3::new(self.x * s, self.y * s, self.z * s)
+    }
+    /// Adds the scalar vector `v` to every lane.
+    #[inline(always)]
+    pub fn add_splat(self, v: Vec3<S>) -> Self {
+        Vec3::new(self.x + v.x, self.y + v.y, self.z + v.z)
+    }
+    /// Subtracts the scalar vector `v` from every lane.
+    #[inline(always)]
+    pub fn sub_splat(self, v: Vec3<S>) -> Self {
+        Vec3::new(self.x - v.x, self.y - v.y, self.z - v.z)
+    }
+    /// Dot product of every lane with the scalar vector `v`.
+    #[inline(always)]
+    pub fn dot_splat(self, v: Vec3<S>) -> Lanes<S, W> {
+        self.x * v.x + self.y * v.y + self.z * v.z
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cross_is_right_handed() {
+        let x = Vec3::new(1.0f32, 0.0, 0.0);
+        let y = Vec3::new(0.0f32, 1.0, 0.0);
+        assert_eq!(x.cross(y), Vec3::new(0.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn normalize_zero_is_zero() {
+        assert_eq!(Vec3::<f32>::ZERO.normalize_or_zero(), Vec3::ZERO);
+        let p: Vec3xW<f32, 2> = Vec3::new(Lanes([0.0, 3.0]), Lanes([0.0, 4.0]), Lanes([0.0, 0.0]));
+        let (n, ok) = p.normalize();
+        assert_eq!(ok.to_array(), [false, true]);
+        assert_eq!(n.lane(0), Vec3::ZERO);
+        assert_eq!(n.lane(1), Vec3::new(0.6, 0.8, 0.0));
+    }
+
+    #[test]
+    fn basis_is_orthonormal_and_right_handed() {
+        for w in [Vec3::new(0.0f32, 0.0, 1.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 2.0, -3.0).normalize_or_zero()]
+        {
+            let (u, v) = w.orthonormal_basis();
+            assert!((u.length() - 1.0).abs() < 1e-6);
+            assert!((v.length() - 1.0).abs() < 1e-6);
+            assert!(u.dot(v).abs() < 1e-6 && u.dot(w).abs() < 1e-6);
+            assert!((u.cross(v) - w).length() < 1e-6);
+        }
+    }
+}

@@ -1,0 +1,1601 @@
+//! [`Fixed32`]: a fast fixed-point [`Scalar`] with 32-bit storage, signed
+//! Q8.24 (an `i32` raw value `r` stands for `r·2⁻²⁴`), for FPU-less
+//! microcontrollers where the 64-bit [`crate::num::fixed64::Fixed`] is too slow.
+//!
+//! # Why Q8.24, and the coordinate box
+//! On a Cortex-M0 (Armv6-M: no FPU, no divide, no CLZ, no 32×32→64
+//! multiply) a 32.32 product costs a 64×64→128 multiply built from sixteen
+//! 16-bit partial products; a Q8.24 product needs one 32×32→64 product, four
+//! 16-bit partial products. The price is range: 8 integer bits.
+//!
+//! - Fraction bits: [`FRAC`] `= 24`, the one constant every derived constant,
+//!   algorithm and test below is written in (change it and the tests re-check
+//!   the format; 16 ≤ `FRAC` ≤ 26 is asserted at compile time).
+//! - Resolution: one unit in the last place is `2⁻²⁴ ≈ 5.96·10⁻⁸` (`f32`
+//!   near 1 has `2⁻²³`, near 2 has `2⁻²²`: Q8.24 is finer inside the box).
+//! - Representable range: `[−MAX, MAX]` with `MAX = 2⁷ − 2⁻²⁴ ≈ 127.99999994`
+//!   (raw `±i32::MAX`; the raw value `i32::MIN` is never produced, so negation
+//!   and `abs` are exact).
+//! - The box rule: a scene must lie in the box `|x|, |y|, |z| ≤`
+//!   [`COORDINATE_LIMIT`] `= 2` (scenes are normalised into it at load time).
+//!   A difference of two points then has components up to `4` and a squared
+//!   length up to `3·4² = 12·2² = 48`, below half the range (64), which
+//!   leaves room for the sums that squared lengths enter (`b² − c` of the
+//!   sphere test, the quadric discriminants). In general the limit is the
+//!   largest power of two `R` with `12·R² ≤ ½·2^(31−FRAC)`.
+//! - Phong exponents are numbers of the format too: a `shine` above `MAX`
+//!   saturates to `MAX ≈ 128` (see [`Scalar::powf`] below).
+//!
+//! # Arithmetic (all total: nothing here can panic, in debug or release)
+//! - `+`, `−`, negation: exact, saturating to `±MAX`.
+//! - `×`: exactly one 32×32→64 product, rounded to nearest with ties towards
+//!   +∞ (`⌊(a·b + 2²³)/2²⁴⌋`, the rule of [`crate::num::fixed64::Fixed`]),
+//!   saturating. Two implementations give the same bits: the portable one
+//!   (`i64` product: one `imul` on x86-64, `mul`+`mulh` on RV32IMAC, `smull`
+//!   on Armv7-M) and, on 32-bit Arm without 32-bit atomics (Armv6-M, where
+//!   LLVM would call `__aeabi_lmul`, a full 64×64 product), one built from
+//!   four 16×16→32 `muls` of the operands' magnitudes. The unit tests run
+//!   both on the host against each other and against an exact reference.
+//! - `÷`: `a·2^FRAC / b` correctly rounded, ties away from zero,
+//!   saturating; `x / 0` is `MAX` for `x > 0`, `−MAX` for `x < 0`, and `0`
+//!   for `0 / 0`. No 64-bit library division: the divisor is normalised
+//!   (software leading-zero count) and the resulting two-word by one-word
+//!   division, whose remainder gives the exact rounding, is done per target
+//!   with the same exact result (tested against each other): the native
+//!   `u64` division on 64-bit hosts; two 32/32-bit hardware divisions
+//!   (Knuth's algorithm D on 16-bit digits) on RV32IMAC and Armv7-M; and on
+//!   Armv6-M, which has no divide instruction, schoolbook division in base
+//!   2¹⁶ with a 16-bit reciprocal of the divisor's top half (a linear seed
+//!   and two Newton–Raphson steps in 32-bit arithmetic, checked for all 2¹⁵
+//!   inputs): each quotient digit is estimated from below with 16×32-bit
+//!   products and raised by the exact remainder (one or two steps).
+//! - `sqrt`: correctly rounded `√(raw·2^FRAC)` (the integer square root of a
+//!   55-bit number, rounded to nearest; no ties exist); negative input gives
+//!   0. A reciprocal square root from a 24-byte table and two Newton steps
+//!   gives the top 16 bits of the root, an exact 32-bit residual fixes them
+//!   and yields the next 16, and a final exact residual (computed modulo 2³²)
+//!   rounds. Checked for all 2³¹ positive inputs by the ignored test
+//!   `exhaustive_sqrt`.
+//! - `powf(x, e)` for `x ∈ [0, 1]`, `e ≥ 0`: `2^(e·log₂x)` with `log₂` and
+//!   `2^f` by shift-and-add (multiplicative normalisation by factors
+//!   `1 + 2⁻ⁱ`, one 14-entry table of `log₂(1 + 2⁻ⁱ)` shared by both) and a
+//!   first-order finish: no floating point, no 64-bit division, the same
+//!   bits on every target. Measured absolute error ≤ `2⁻¹⁹` over the unit
+//!   test's grid (`powf_matches_f64_pow`: x over the whole unit interval, e up
+//!   to `MAX`), far below one 8-bit step (`2⁻⁸`).
+//! - `from_f32`: round to nearest (ties away from zero), saturate, NaN → 0,
+//!   from the bit pattern alone (integer shifts; no float arithmetic, so
+//!   firmware links no soft-float routine for it).
+//!
+//! # Cost on a Cortex-M0 and on RV32IMAC
+//! Executed instructions per operation, measured under QEMU
+//! (`qemu-system-arm -M microbit -cpu cortex-m0 -icount shift=0`, where the
+//! SysTick then counts instructions, and `qemu-system-riscv32 -M virt
+//! -icount shift=0`, reading `minstret`) by a scratch firmware, not in the
+//! repository, that calls each operation through a function pointer on 2048
+//! seeded operand pairs (`a ∈ [−4, 4]`, `b ∈ [0.05, 4]`; `powf`: `x ∈ [0, 1)`,
+//! `e ∈ [1, 100]`) and subtracts the same loop around an identity function,
+//! so the figures include the cost of a call (about 6 instructions).
+//! Release build with fat LTO as `targets/` builds firmware (Rust 1.95):
+//!
+//! | operation | M0 `Fixed32` | M0 soft-float `f32` | M0 32.32 `Fixed` | RV32 `Fixed32` | RV32 soft-float `f32` |
+//! |-----------|------:|------:|------:|------:|------:|
+//! | `+`       | 9     | 115   | 35    | 10    | 79    |
+//! | `×`       | 50    | 112   | 350   | 26    | 51    |
+//! | `÷`       | 193   | 175   | 3552  | 100   | 98    |
+//! | `sqrt`    | 119   | 419 (`libm::sqrtf`) | 4016 | 97 | 124 |
+//! | `powf`    | 328   | 10138 (`libm::powf`), 4367 ([`crate::num::unit_pow::powf_unit`]) | 9960 | 267 | 5781, 2395 |
+//! | `from_f32`| 31    | —     | —     | 26    | —     |
+//!
+//! Code sizes on the M0 (`llvm-nm --size-sort -S`, bytes): `+` inlined,
+//! 10; `×` inlined, about 80; `÷` 532; `sqrt` 428 + 24 (table); `powf`
+//! 1084 + 56 (table). Soft-float: `__addsf3` 504, `__mulsf3` 416 (+ 74 for
+//! `__aeabi_lmul`), `__divsf3` 528, `libm::sqrtf` 284 + 256 (table).
+//!
+//! A quotient needs 31 correct bits where an `f32` quotient needs 24, which
+//! is why `÷` alone does not beat soft-float; the sums and products that
+//! dominate a ray tracer are 2–12× cheaper. Every operation links without
+//! a reachable panic on thumbv6m, thumbv7em and riscv32imac, also with
+//! overflow checks on (checked with a `panic-never`-style link).
+
+use crate::num::scalar::Scalar;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Number of fractional bits: the one constant that defines the format
+/// (value = raw·2⁻ᶠᴿᴬᶜ).
+pub const FRAC: u32 = 24;
+
+// The algorithms below budget their shifts for this range: `MIN_WEIGHT`
+// (2⁻⁹) and `TWO` must be representable, the square root's final residual
+// must fit 31 bits, and `powf`'s logarithm must fit its Q5.26 format.
+const _: () = assert!(FRAC >= 16 && FRAC <= 26);
+
+/// Raw value of one.
+const RAW_ONE: i32 = 1 << FRAC;
+/// Raw value of the largest representable number, `2^(31−FRAC) − 2^−FRAC`.
+const RAW_MAX: i32 = i32::MAX;
+/// Raw value of the smallest representable number, `−MAX`.
+const RAW_MIN: i32 = -i32::MAX;
+/// Half a unit in the last place of a product's 2·FRAC fractional bits.
+const HALF_ULP: i64 = 1 << (FRAC - 1);
+
+/// `log₂` of the coordinate limit: the largest `c` with
+/// `12·(2^c)² ≤ ½·2^(31−FRAC)` (squared distances within half the range).
+const fn coordinate_limit_log2() -> i32 {
+    let budget: i64 = 1 << (30 - FRAC);
+    // Scaled by 4⁸ so that c may start at −8: 12·4^(c+1) ≤ budget ⇔
+    // 12·4^(c+9) ≤ budget·2¹⁶.
+    let mut c: i32 = -8;
+    while c < 8 && 12 * (1i64 << (2 * (c + 9))) <= budget << 16 {
+        c += 1;
+    }
+    c
+}
+
+/// Largest coordinate magnitude a [`Fixed32`] scene may use: scenes are
+/// normalised into the box `[−2, 2]³` at load time (see the module
+/// documentation for the derivation).
+pub const COORDINATE_LIMIT: f32 = f32::from_bits(((127 + coordinate_limit_log2()) as u32) << 23);
+
+/// Largest coordinate magnitude of a light (see [`Scalar::LIGHT_LIMIT`]).
+pub const LIGHT_LIMIT: f32 = 100.0;
+
+/// Budget for the quadric and cone discriminants ([`crate::geom::fixed_range`]
+/// bounds them, and each of the two terms they are the sum of): the largest
+/// sums those kernels form, kept below the top of the range (128) with a
+/// margin for rounding.
+pub const INTERMEDIATE_LIMIT: f32 = 120.0;
+
+/// A signed Q8.24 fixed-point number with 32-bit storage: the fast
+/// [`Scalar`] for FPU-less 32-bit targets.
+///
+/// Ordering, equality and hashing are those of the raw integer (the value
+/// order). See the module documentation for the exact semantics of every
+/// operation.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+#[repr(transparent)]
+pub struct Fixed32(i32);
+
+impl Fixed32 {
+    /// The number whose raw two's-complement bits are `raw` (value
+    /// `raw·2^−FRAC`); `i32::MIN` becomes `−MAX`.
+    #[inline]
+    pub const fn from_bits(raw: i32) -> Self {
+        Fixed32(if raw == i32::MIN { RAW_MIN } else { raw })
+    }
+    /// The raw bits (value `raw·2^−FRAC`).
+    #[inline]
+    pub const fn to_bits(self) -> i32 {
+        self.0
+    }
+    /// The smaller of two values. (Inherent, so that `a.min(b)` on a
+    /// concrete `Fixed32` is not ambiguous between `Ord` and `Scalar`; all
+    /// three agree.)
+    #[inline]
+    pub const fn min(self, o: Self) -> Self {
+        if self.0 < o.0 {
+            self
+        } else {
+            o
+        }
+    }
+    /// The larger of two values (inherent, like [`Fixed32::min`]).
+    #[inline]
+    pub const fn max(self, o: Self) -> Self {
+        if self.0 > o.0 {
+            self
+        } else {
+            o
+        }
+    }
+    /// Converts from `f64`, rounded to nearest (ties away from zero),
+    /// saturating, NaN to 0. A test and report helper: it uses `f64`
+    /// arithmetic, which the render path never does.
+    pub fn from_f64(v: f64) -> Self {
+        if v.is_nan() {
+            return Fixed32(0);
+        }
+        // Scaling by a power of two is exact; `as` saturates.
+        let scaled = libm::round(v * RAW_ONE as f64);
+        Fixed32::from_bits((scaled as i64).clamp(RAW_MIN as i64, RAW_MAX as i64) as i32)
+    }
+    /// Converts to `f64` (exact: 31 significant bits). A test and report
+    /// helper, like [`Fixed32::from_f64`].
+    pub fn to_f64(self) -> f64 {
+        self.0 as f64 / RAW_ONE as f64
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Decimal output without floating point.
+
+impl core::fmt::Display for Fixed32 {
+    /// The shortest decimal that reads back (rounded to nearest) as the same
+    /// number, e.g. `0.1` for raw 1677722, `-2.5`, `127.99999994`; integers
+    /// print without a point. Computed with integer arithmetic only.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let mag = self.0.unsigned_abs();
+        let (int, frac) = (mag >> FRAC, (mag & (RAW_ONE as u32 - 1)) as u64);
+        // Up to 24 characters: sign, 3 integer digits, point, 9 fraction digits.
+        let mut buf = [0u8; 24];
+        let mut n = 0;
+        if self.0 < 0 {
+            buf[0] = b'-';
+            n = 1;
+        }
+        // Integer part (at most 2^(31−FRAC) ≤ 32768: five digits).
+        let mut digits = [0u8; 5];
+        let (mut k, mut v) = (0, int);
+        loop {
+            if let Some(d) = digits.get_mut(k) {
+                *d = b'0' + (v % 10) as u8;
+            }
+            k += 1;
+            v /= 10;
+            if v == 0 || k >= digits.len() {
+                break;
+            }
+        }
+        while k > 0 {
+            k -= 1;
+            if let (Some(dst), Some(&src)) = (buf.get_mut(n), digits.get(k)) {
+                *dst = src;
+            }
+            n += 1;
+        }
+        if frac != 0 {
+            // The fewest digits p with round(D·2^FRAC/10^p) = frac for
+            // D = round(frac·10^p/2^FRAC): 10^p ≥ 2^(FRAC+1) always works,
+            // so p ≤ 9 for FRAC ≤ 26 (and frac·10^p < 2^56 fits u64).
+            let one = 1u64 << FRAC;
+            let mut p = 1;
+            let mut pow = 10u64;
+            let mut dec = (frac * pow + one / 2) >> FRAC;
+            while p < 9 && ((dec << FRAC) + pow / 2) / pow != frac {
+                p += 1;
+                pow *= 10;
+                dec = (frac * pow + one / 2) >> FRAC;
+            }
+            if let Some(dst) = buf.get_mut(n) {
+                *dst = b'.';
+            }
+            n += 1;
+            // p digits of dec, zero-padded on the left, then trailing zeros dropped.
+            let mut i = p;
+            let start = n;
+            while i > 0 {
+                i -= 1;
+                if let Some(dst) = buf.get_mut(start + i) {
+                    *dst = b'0' + (dec % 10) as u8;
+                }
+                dec /= 10;
+            }
+            n = start + p;
+            while n > start + 1 && buf.get(n - 1) == Some(&b'0') {
+                n -= 1;
+            }
+        }
+        let s = buf.get(..n).and_then(|b| core::str::from_utf8(b).ok()).unwrap_or("?");
+        f.pad(s)
+    }
+}
+
+impl core::fmt::Debug for Fixed32 {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(self, f)
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Integer building blocks: leading zeros and the 32×32→64 product.
+
+/// Leading zeros of `x` (31 for `x = 0`, which no caller passes), by a
+/// five-step binary search: Armv6-M has no CLZ instruction and
+/// `u32::leading_zeros` would call `__clzsi2`. Each step shifts the window
+/// up by half its width when the upper half is empty; LLVM compiles the
+/// `bool as u32` selects into compare-and-shift sequences.
+#[inline(always)]
+#[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+fn clz_soft(mut x: u32) -> u32 {
+    let mut n = 0;
+    let s = ((x >> 16 == 0) as u32) << 4;
+    x <<= s;
+    n += s;
+    let s = ((x >> 24 == 0) as u32) << 3;
+    x <<= s;
+    n += s;
+    let s = ((x >> 28 == 0) as u32) << 2;
+    x <<= s;
+    n += s;
+    let s = ((x >> 30 == 0) as u32) << 1;
+    x <<= s;
+    n += s;
+    n + ((x >> 31) ^ 1)
+}
+
+/// Leading zeros of a nonzero `x`: the instruction on 64-bit hosts, the
+/// binary search elsewhere (same result, tested).
+#[inline(always)]
+fn clz(x: u32) -> u32 {
+    #[cfg(target_pointer_width = "64")]
+    {
+        x.leading_zeros()
+    }
+    #[cfg(not(target_pointer_width = "64"))]
+    {
+        clz_soft(x)
+    }
+}
+
+// The limb variants below are chosen on 32-bit Arm without 32-bit atomics,
+// i.e. Armv6-M (Cortex-M0/M0+/M1), which has no long multiply
+// (`umull`/`smull`): there LLVM would call `__aeabi_lmul`, a full 64×64
+// product. Stable `cfg` exposes no Arm ISA features, so the absence of
+// atomics (which Armv7-M and later have) is the discriminator; both variants
+// are compiled and tested against each other on every host, and give the
+// same bits everywhere.
+
+/// Unsigned 32×32→64 product, native (`u64` multiply).
+#[inline(always)]
+#[cfg_attr(all(target_arch = "arm", not(target_has_atomic = "32")), allow(dead_code))]
+fn wmul_native(a: u32, b: u32) -> u64 {
+    a as u64 * b as u64
+}
+
+/// Unsigned 32×32→64 product from four 16×16→32 products (schoolbook on
+/// 16-bit limbs), for cores without a long multiply. The two cross products
+/// may sum past 2³²; that carry has weight 2⁴⁸.
+#[inline(always)]
+#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+fn wmul_limbs(a: u32, b: u32) -> u64 {
+    let (al, ah, bl, bh) = (a & 0xFFFF, a >> 16, b & 0xFFFF, b >> 16);
+    let (mid, c_mid) = (al * bh).overflowing_add(ah * bl);
+    let (lo, c_lo) = (al * bl).overflowing_add(mid << 16);
+    // The true high word is below 2³², so these sums cannot overflow.
+    let hi = ah * bh + (mid >> 16) + ((c_mid as u32) << 16) + c_lo as u32;
+    ((hi as u64) << 32) | lo as u64
+}
+
+/// Unsigned 32×32→64 product: the one wide primitive of the division and
+/// the square root (`powf` uses it once), picked per target like `×`.
+#[inline(always)]
+fn wmul(a: u32, b: u32) -> u64 {
+    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+    {
+        wmul_limbs(a, b)
+    }
+    #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+    {
+        wmul_native(a, b)
+    }
+}
+
+/// `w·d` for `w < 2¹⁶`: two 16×16→32 products on every target (a 16×32
+/// product is all the reciprocal and root refinements need).
+#[inline(always)]
+fn mul16x32(w: u32, d: u32) -> u64 {
+    // (Wrapping only to spare overflow checks: w < 2¹⁶ keeps both exact.)
+    ((w.wrapping_mul(d >> 16) as u64) << 16) + w.wrapping_mul(d & 0xFFFF) as u64
+}
+
+/// The portable product: `⌊(a·b + 2^(FRAC−1)) / 2^FRAC⌋` from one exact
+/// `i64` product (|a·b| ≤ 2⁶², so adding half an ulp cannot overflow), then
+/// clamped to `[−MAX, MAX]`. The arithmetic shift floors, so ties go
+/// towards +∞.
+#[inline(always)]
+#[cfg_attr(all(target_arch = "arm", not(target_has_atomic = "32")), allow(dead_code))]
+fn mul_raw_native(a: i32, b: i32) -> i32 {
+    let r = (a as i64 * b as i64 + HALF_ULP) >> FRAC;
+    if r > RAW_MAX as i64 {
+        RAW_MAX
+    } else if r < RAW_MIN as i64 {
+        RAW_MIN
+    } else {
+        r as i32
+    }
+}
+
+/// The same product from 16-bit limbs of the magnitudes (Armv6-M). With
+/// `P = |a|·|b|`, a positive product rounds to `⌊(P + h)/2^FRAC⌋` and a
+/// negative one to `−⌈(P − h)/2^FRAC⌉ = −⌊(P + h − 1)/2^FRAC⌋` (`h` = half an
+/// ulp), so the magnitude gets the bias `h − neg` and the sign is applied
+/// last: the same bits as [`mul_raw_native`] for every pair (tested).
+/// Magnitudes are at most 2³¹, so their high limbs are at most 2¹⁵ and the
+/// two cross products sum below 2³² (no carry to track, unlike `wmul`).
+#[inline(always)]
+#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+fn mul_raw_limbs(a: i32, b: i32) -> i32 {
+    let neg = (a ^ b) < 0;
+    let (x, y) = (a.unsigned_abs(), b.unsigned_abs());
+    let (xl, xh, yl, yh) = (x & 0xFFFF, x >> 16, y & 0xFFFF, y >> 16);
+    let mid = xl * yh + xh * yl; // < 2·2¹⁶·2¹⁵ = 2³²
+    let (lo, c1) = (xl * yl).overflowing_add(mid << 16);
+    let hi = xh * yh + (mid >> 16) + c1 as u32; // P = hi·2³² + lo, hi ≤ 2³⁰
+                                                // Round: add the bias to the 64-bit magnitude.
+    let (lo, c2) = lo.overflowing_add(HALF_ULP as u32 - neg as u32);
+    let hi = hi + c2 as u32;
+    // |result| = ⌊(P + bias)/2^FRAC⌋; it exceeds MAX iff it is ≥ 2³¹, i.e.
+    // iff hi ≥ 2^(FRAC−1).
+    if hi >> (FRAC - 1) != 0 {
+        return if neg { RAW_MIN } else { RAW_MAX };
+    }
+    let m = ((hi << (32 - FRAC)) | (lo >> FRAC)) as i32; // ≤ 2³¹ − 1
+    if neg {
+        -m
+    } else {
+        m
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Division: a 16-bit reciprocal and two 16-bit quotient digits.
+
+/// `W ≈ 2³²/dh` for `dh ∈ (2¹⁵, 2¹⁶]` (a divisor's top half, rounded up),
+/// returned as `W − 2¹⁶ ∈ [0, 2¹⁶)`, never above the true value and at most
+/// a few units (2⁻¹⁵ relative) below it (`reciprocal16_is_a_tight_lower_bound`
+/// checks all 2¹⁵ inputs).
+///
+/// Linear seed `X₀ = 48/17 − 32/17·Dh` (relative error ≤ 1/17 on `[½, 1]`,
+/// `Dh = dh/2¹⁶`), as `W = 2¹⁶·X`: 185042 ≈ 2¹⁶·48/17, 61681 ≈ 2¹⁵·32/17
+/// (`dh·61681 < 2³²`). Then two Newton steps `W ← W + W·(1 − Dh·W)`: the
+/// residual `e = 2³² − dh·W` is small (`|e| < 2³¹`, so the wrapped product
+/// read as `i32` is exact) and `W·e/2³²` is formed as `(W/2)·(e/2¹⁵)/2¹⁶`
+/// within 32 bits. The relative error goes 2⁻⁴·¹ → 2⁻⁸·² → 2⁻¹⁵ (the 16-bit
+/// floor); exact Newton steps land below `1/Dh` and every truncation rounds
+/// down, so `W` stays a lower bound.
+#[inline(always)]
+fn reciprocal16(dh: u32) -> u32 {
+    let mut w = 185_042u32.wrapping_sub(dh.wrapping_mul(61_681) >> 15);
+    let mut k = 0;
+    while k < 2 {
+        let e = dh.wrapping_mul(w).wrapping_neg() as i32;
+        w = w.wrapping_add((((w >> 1) as i32).wrapping_mul(e >> 15) >> 16) as u32);
+        k += 1;
+    }
+    // W may fall just below 2¹⁶ for dh = 2¹⁶ (where 2³²/dh = 2¹⁶): clamp.
+    w.saturating_sub(1 << 16) & 0xFFFF
+}
+
+/// `⌊m·W/2³²⌋` for the reciprocal `W = 2¹⁶ + wl`: `m·2¹⁶ + m·wl` from two
+/// 16×16 products.
+#[inline(always)]
+fn mul_recip(m: u32, wl: u32) -> u32 {
+    ((((m as u64) << 16).wrapping_add(mul16x32(wl, m))) >> 32) as u32
+}
+
+// The two-word division `(u1·2³² + u0)/d` (normalised `d ≥ 2³¹`, `u1 < d`,
+// quotient below 2³²) has three implementations with the same exact result,
+// chosen per target and tested against each other on the host:
+// - 64-bit targets: the native `u64` division (one instruction);
+// - 32-bit targets with a 32-bit hardware divide (RV32 with the M extension,
+//   Armv7-M and later): two 32/32-bit divisions (Knuth's algorithm D with
+//   16-bit digits, as in Hacker's Delight's `divlu`);
+// - 32-bit targets without one (Armv6-M, RV32 without M): two 16-bit digits
+//   from a 16-bit reciprocal (no division at all).
+
+/// The exact `(⌊n/d⌋, n mod d)` of `n = u1·2³² + u0`, by the native `u64`
+/// division.
+#[inline(always)]
+#[cfg_attr(not(target_pointer_width = "64"), allow(dead_code))]
+fn div_words_native(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    let n = ((u1 as u64) << 32) | u0 as u64;
+    ((n / d as u64) as u32, (n % d as u64) as u32)
+}
+
+/// The same with two 32/32-bit hardware divisions: each 16-bit quotient
+/// digit is first estimated from the divisor's top half (at most two too
+/// large, as `d` is normalised) and lowered while the next digit shows it is
+/// too large (the test `q·d_lo > r̂·2¹⁶ + next digit` of algorithm D).
+#[inline(always)]
+#[allow(dead_code)]
+fn div_words_hw32(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    const B: u32 = 1 << 16;
+    // d ≥ 2³¹, so its top half is nonzero; `NonZeroU32` lets the compiler
+    // drop the divide-by-zero panic (the `None` arm is unreachable).
+    let Some(dh_nz) = core::num::NonZeroU32::new(d >> 16) else {
+        return (0, 0);
+    };
+    let (dh, dl) = (dh_nz.get(), d & 0xFFFF);
+    let (n1, n0) = (u0 >> 16, u0 & 0xFFFF);
+    // High digit from u1 (< d, so the digit is below 2¹⁶ once corrected);
+    // r̂ < 2¹⁶ inside the loop, so r̂·2¹⁶ + n1 cannot overflow. (All steps
+    // are exact; the wrapping forms only spare unprovable overflow checks.)
+    let mut q1 = u1 / dh_nz;
+    let mut rhat = u1.wrapping_sub(q1.wrapping_mul(dh));
+    while q1 >= B || q1.wrapping_mul(dl) > (rhat << 16).wrapping_add(n1) {
+        q1 = q1.wrapping_sub(1);
+        rhat = rhat.wrapping_add(dh);
+        if rhat >= B {
+            break;
+        }
+    }
+    // The partial remainder is below d: exact modulo 2³².
+    let u21 = (u1 << 16).wrapping_add(n1).wrapping_sub(q1.wrapping_mul(d));
+    let mut q0 = u21 / dh_nz;
+    let mut rhat = u21.wrapping_sub(q0.wrapping_mul(dh));
+    while q0 >= B || q0.wrapping_mul(dl) > (rhat << 16).wrapping_add(n0) {
+        q0 = q0.wrapping_sub(1);
+        rhat = rhat.wrapping_add(dh);
+        if rhat >= B {
+            break;
+        }
+    }
+    let r = (u21 << 16).wrapping_add(n0).wrapping_sub(q0.wrapping_mul(d));
+    ((q1 << 16).wrapping_add(q0), r)
+}
+
+/// The same without any division: schoolbook in base 2¹⁶ with the 16-bit
+/// reciprocal of `d`'s top half. Each digit is estimated from below (never
+/// too large, so the remainder never goes negative) from a 16×32 product and
+/// raised by the exact remainder, one or two steps at most.
+#[inline(always)]
+#[allow(dead_code)]
+fn div_words_reciprocal(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    let n = ((u1 as u64) << 32) | u0 as u64;
+    // 1/d ≈ W/2⁴⁸ from below, with dh = ⌈d/2¹⁶⌉ (d ≥ 2¹⁶·(dh − 1) + 1).
+    let wl = reciprocal16((d >> 16) + 1);
+    let d16 = (d as u64) << 16;
+    // (Every step below is exact by the bounds stated; the wrapping forms
+    // only spare overflow checks that LLVM cannot discharge.)
+    // High digit: q1 = ⌊n/(d·2¹⁶)⌋ < 2¹⁶ (u1 < d), estimated as
+    // ⌊u1·W/2³²⌋ ≤ u1·2¹⁶/d ≤ n/(d·2¹⁶); the remainder n − q1·d·2¹⁶ then
+    // stays ≥ 0 and ends below d·2¹⁶ < 2⁴⁸.
+    let mut q1 = mul_recip(u1, wl);
+    let mut n1 = n.wrapping_sub(mul16x32(q1, d) << 16);
+    while n1 >= d16 {
+        n1 = n1.wrapping_sub(d16);
+        q1 = q1.wrapping_add(1);
+    }
+    // Low digit: q0 = ⌊n1/d⌋ < 2¹⁶ from the top 32 bits of n1, likewise.
+    let mut q0 = mul_recip((n1 >> 16) as u32, wl);
+    let mut r = n1.wrapping_sub(mul16x32(q0, d));
+    while r >= d as u64 {
+        r = r.wrapping_sub(d as u64);
+        q0 = q0.wrapping_add(1);
+    }
+    ((q1 << 16).wrapping_add(q0), r as u32)
+}
+
+/// The two-word division of this target (see above).
+#[inline(always)]
+fn div_words(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    #[cfg(target_pointer_width = "64")]
+    {
+        div_words_native(u1, u0, d)
+    }
+    #[cfg(all(
+        not(target_pointer_width = "64"),
+        any(
+            all(target_arch = "arm", not(target_has_atomic = "32")),
+            all(target_arch = "riscv32", not(target_feature = "m"))
+        )
+    ))]
+    {
+        div_words_reciprocal(u1, u0, d)
+    }
+    #[cfg(all(
+        not(target_pointer_width = "64"),
+        not(any(
+            all(target_arch = "arm", not(target_has_atomic = "32")),
+            all(target_arch = "riscv32", not(target_feature = "m"))
+        ))
+    ))]
+    {
+        div_words_hw32(u1, u0, d)
+    }
+}
+
+/// `a·2^FRAC / b` rounded to nearest (ties away from zero), saturating; see
+/// [`Fixed32`]'s `Div` for the zero-divisor results. `words` is the
+/// two-word division (a parameter so that the tests can run every variant).
+///
+/// Why this route: normalising the divisor turns the 55-by-31-bit division
+/// into a two-word by one-word division with a quotient below 2³¹, which
+/// every target can do exactly without a 64-bit library division (a long
+/// loop on 32-bit cores: `__aeabi_uldivmod`, `__udivdi3`); its remainder
+/// gives the exact rounding.
+#[inline(always)]
+fn div_raw_with(a: i32, b: i32, words: impl Fn(u32, u32, u32) -> (u32, u32)) -> i32 {
+    let neg = (a ^ b) < 0;
+    let sat = if neg { RAW_MIN } else { RAW_MAX };
+    if b == 0 {
+        return if a == 0 {
+            0
+        } else if a > 0 {
+            RAW_MAX
+        } else {
+            RAW_MIN
+        };
+    }
+    let (x, y) = (a.unsigned_abs(), b.unsigned_abs());
+    // The quotient x·2^FRAC/y is ≥ 2³¹ (saturates) iff x ≥ 2^(31−FRAC)·y,
+    // i.e. iff ⌊x/2^(31−FRAC)⌋ ≥ y (y is an integer).
+    if x >> (31 - FRAC) >= y {
+        return sat;
+    }
+    // Normalise: d = y·2^s ∈ [2³¹, 2³²). The numerator N = x·2^(FRAC+s) then
+    // satisfies N < 2³¹·d (from x < 2^(31−FRAC)·y), so its high word is
+    // below d and ⌊N/d⌋ = ⌊x·2^FRAC/y⌋ < 2³¹. Only 32-bit shifts: a
+    // variable 64-bit shift is a library call on Armv6-M.
+    let s = clz(y);
+    let d = y.wrapping_shl(s);
+    let k = FRAC + s; // ∈ [FRAC, FRAC + 31]
+    let (u1, u0) = if k >= 32 { (x.wrapping_shl(k - 32), 0) } else { (x.wrapping_shr(32 - k), x.wrapping_shl(k)) };
+    let (q, r) = words(u1, u0, d);
+    // r = 2^s·(x·2^FRAC mod y) < d: the remainder is at least half the
+    // divisor iff r ≥ d − r; the magnitude then rounds up (away from zero).
+    // q < 2³¹, so q + 1 ≤ 2³¹ fits, and only 2³¹ itself saturates.
+    let q = q.wrapping_add((r >= d.wrapping_sub(r)) as u32);
+    let m = if q > RAW_MAX as u32 { RAW_MAX } else { q as i32 };
+    if neg {
+        -m
+    } else {
+        m
+    }
+}
+
+/// `a·2^FRAC / b` with this target's two-word division.
+#[inline(always)]
+fn div_raw(a: i32, b: i32) -> i32 {
+    div_raw_with(a, b, div_words)
+}
+
+// ---------------------------------------------------------------------------
+// Square root.
+
+/// Seeds for `2³¹/√t`, `t ∈ [2³⁰, 2³²)`, indexed by `t >> 27` (8..=31): the
+/// value at each interval's midpoint as `(y − 2¹⁵)/2⁷`, rounded (≈ 5 bits).
+const RSQRT_SEED: [u8; 24] =
+    [241, 214, 191, 171, 154, 138, 124, 112, 101, 90, 81, 72, 64, 56, 49, 43, 37, 31, 25, 20, 15, 11, 6, 2];
+
+/// `round(√(a·2^FRAC))` for `0 < a < 2³¹`.
+///
+/// Why this route: the bit-by-bit integer square root of a 55-bit number is
+/// a 28-iteration loop of 64-bit operations (≈ 300 instructions on a 32-bit
+/// core); a reciprocal-square-root estimate needs a few 16-bit products, and
+/// residuals computed exactly in 32 bits turn the estimate into the
+/// correctly rounded root.
+#[inline(always)]
+fn sqrt_raw(a: u32) -> u32 {
+    // n = a·2^FRAC = g·2^F' with F' = FRAC rounded down to even.
+    let odd = FRAC & 1;
+    let g = a << odd; // < 2³²
+                      // Normalise by an even shift: t = g·4^(z/2) ∈ [2³⁰, 2³²), so that
+                      // √n = √(t·2³²)·2^−k with k = 16 − F'/2 + z/2 ≥ 3.
+    let z = clz(g) & !1;
+    let t = g.wrapping_shl(z); // z ≤ 30
+    let k = (16 - (FRAC - odd) / 2).wrapping_add(z / 2);
+    // y ≈ 2³¹/√t = 2¹⁵/√T (T = t/2³² ∈ [¼, 1)), y ∈ (2¹⁵, 2¹⁶): seed, then
+    // Newton y ← y + y·(1 − T·y²)/2 (converges from below).
+    let seed = match RSQRT_SEED.get(((t >> 27) as usize).wrapping_sub(8)) {
+        Some(&s) => s as u32,
+        None => 0, // unreachable: t >> 27 ∈ [8, 31]
+    };
+    let mut y = (1u32 << 15) + (seed << 7);
+    // First step with T's top 16 bits (error 2⁻⁵ → 2⁻⁹·⁵): T·y² in Q.16 as
+    // (t/2¹⁶)·(y²/2¹⁶)/2¹⁴; h = 1 − T·y² in Q.16 is small and signed.
+    let u = (t >> 16).wrapping_mul(y.wrapping_mul(y) >> 16) >> 14;
+    let h = (1i32 << 16).wrapping_sub(u as i32);
+    y = y.wrapping_add((((y >> 1) as i32).wrapping_mul(h) >> 16) as u32);
+    // Second step with the full t (error → 2⁻¹⁵, the resolution of y):
+    // T·y = t·y/2³² as Q.31 from a 16×32 product, then T·y² = (T·y)·y.
+    let ty = (mul16x32(y, t) >> 16) as u32;
+    let u = (ty >> 15).wrapping_mul(y) >> 15;
+    let h = (1i32 << 16).wrapping_sub(u as i32);
+    y = y.wrapping_add((((y >> 1) as i32).wrapping_mul(h) >> 16) as u32);
+    // Top 16 bits: s ≈ √t = t·y/2³¹ (within −1…+2 of ⌊√t⌋); make it exact
+    // with the residual δ = t − s² (exact: |δ| < 2³¹, wrapped arithmetic).
+    let mut s = (mul16x32(y, t) >> 31) as u32;
+    let mut delta = t.wrapping_sub(s.wrapping_mul(s)) as i32;
+    // (The bounds make every step below exact; wrapping operations keep
+    // them free of overflow checks, which LLVM cannot discharge.)
+    while delta < 0 {
+        s = s.wrapping_sub(1);
+        delta = delta.wrapping_add(s.wrapping_mul(2).wrapping_add(1) as i32);
+    }
+    while delta > s.wrapping_mul(2) as i32 {
+        delta = delta.wrapping_sub(s.wrapping_mul(2).wrapping_add(1) as i32);
+        s = s.wrapping_add(1);
+    }
+    // Next 16 bits: √t = s + δ/(2s) − δ²/(8s³) + … with 0 ≤ δ ≤ 2s, so
+    // √(t·2³²) ≈ s·2¹⁶ + δ·2¹⁵/s, and 1/s ≈ y/2³¹: f = (δ/2)·y/2¹⁵ (< 2³²;
+    // error a few units, the dropped term below one).
+    let f = (delta as u32 >> 1).wrapping_mul(y) >> 15;
+    let root = (s << 16).wrapping_add(f); // ≈ √(t·2³²), within a few units
+                                          // Scale to √n and round: r̂ = round(root/2^k), within ±1 of the answer.
+    let mut r = (root >> (k.wrapping_sub(1) & 31)).wrapping_add(1) >> 1;
+    // Exact final rounding with D = n − r̂² (|D| < 2³¹, so modulo 2³² is
+    // exact): r is round(√n) iff −r < D ≤ r (as (r − ½)² ≤ n < (r + ½)²,
+    // and n is an integer).
+    let mut dd = (a << FRAC).wrapping_sub(r.wrapping_mul(r)) as i32;
+    while dd > r as i32 {
+        dd = dd.wrapping_sub(r.wrapping_mul(2).wrapping_add(1) as i32);
+        r = r.wrapping_add(1);
+    }
+    while dd <= (r as i32).wrapping_neg() {
+        dd = dd.wrapping_add(r.wrapping_mul(2).wrapping_sub(1) as i32);
+        r = r.wrapping_sub(1);
+    }
+    r
+}
+
+// ---------------------------------------------------------------------------
+// Power: shift-and-add log₂ and exp₂.
+
+/// Number of shift-and-add steps of `log₂` and `2^f`: the residual factor
+/// after them is below `1 + 2⁻¹⁴`, finished to first order (error `< 2⁻²⁸`).
+const POW_STEPS: usize = 14;
+
+/// `log₂(1 + 2⁻ⁱ)` for `i = 1 ..= 14` as Q.30, rounded to nearest (from
+/// 60-digit decimal arithmetic; `pow_table_matches_f64` checks each entry).
+const LOG2_STEP: [u32; POW_STEPS] = [
+    628_098_702,
+    345_667_660,
+    182_455_581,
+    93_912_511,
+    47_667_823,
+    24_017_256,
+    12_055_174,
+    6_039_314,
+    3_022_600,
+    1_512_037,
+    756_203,
+    378_148,
+    189_085,
+    94_546,
+];
+
+/// `1/ln 2` in Q.15 and `ln 2` in Q.16 (the first-order finishes).
+const INV_LN2_Q15: u32 = 47_274;
+const LN2_Q16: u32 = 45_426;
+
+/// `log₂(m/2³¹)` in Q.30 for `m ∈ [2³¹, 2³²)` (a mantissa in [1, 2)).
+///
+/// Multiplies `m` by those factors `1 + 2⁻ⁱ` (a shift and an add each) that
+/// keep it below 2, summing their logarithms from the table: `m·Π = p` with
+/// `p ∈ [2/(1 + 2⁻¹⁴), 2)`, so `log₂m = 1 − Σ − log₂(2/p)` and
+/// `log₂(2/p) ≈ (2 − p)/(2·ln 2)` to within `2⁻²⁸`.
+#[inline(always)]
+fn log2_mantissa(m: u32) -> u32 {
+    let mut p = m;
+    let mut acc = 0u32;
+    let mut i = 0;
+    while i < POW_STEPS {
+        // p·(1 + 2^−(i+1)); the carry out of bit 31 means "≥ 2": skip.
+        let (t, over) = p.overflowing_add(p >> (i + 1));
+        if !over {
+            p = t;
+            acc = acc.wrapping_add(LOG2_STEP[i]);
+        }
+        i += 1;
+    }
+    // 2 − p in units of 2⁻³¹ is 2³² − p (< 2¹⁸ here); times 1/(2 ln 2) in
+    // Q.30: (2³² − p)/2²·(1/ln 2)/2¹⁵.
+    let gap = p.wrapping_neg();
+    let tail = (gap >> 2).wrapping_mul(INV_LN2_Q15) >> 15;
+    // At m = 1 the rounded table sum may exceed 1 by a few units: clamp at 0.
+    (1u32 << 30).saturating_sub(acc.wrapping_add(tail))
+}
+
+/// `2^f` in Q1.31 for `f ∈ [0, 1)` given as Q.26.
+///
+/// Subtracts from `f` those table logarithms that fit, multiplying `p` by
+/// the matching factors `1 + 2⁻ⁱ` (greedy: each factor is at most the
+/// product of all later ones, so the remainder ends below `log₂(1 + 2⁻¹⁴)`),
+/// then `p·2^rem ≈ p·(1 + rem·ln 2)`.
+#[inline(always)]
+fn exp2_fraction(f: u32) -> u32 {
+    let mut rem = f << 4; // Q.30
+    let mut p = 1u32 << 31;
+    let mut i = 0;
+    while i < POW_STEPS {
+        if rem >= LOG2_STEP[i] {
+            rem = rem.wrapping_sub(LOG2_STEP[i]);
+            p = p.wrapping_add(p >> (i + 1));
+        }
+        i += 1;
+    }
+    // rem < 2¹⁷ (Q.30); rem·ln 2 in Q.30, then p·that/2³⁰ from 15 × 16 bits.
+    let x = (rem >> 1).wrapping_mul(LN2_Q16) >> 15;
+    // (Exact by the bounds above; wrapping spares unprovable overflow checks.)
+    p.wrapping_add((p >> 17).wrapping_mul(x) >> 13)
+}
+
+/// `x^e` for raw `0 < x < 2^FRAC` (x in (0, 1)) and raw `e > 0`.
+#[inline(always)]
+fn powf_raw(x: i32, e: i32) -> i32 {
+    // With j the index of x's top bit, x·2^−FRAC = (m/2³¹)·2^(j−FRAC) with
+    // the mantissa m = x·2^(31−j) ∈ [2³¹, 2³²).
+    let lz = clz(x as u32);
+    let j = 31u32.wrapping_sub(lz);
+    let m = (x as u32).wrapping_shl(lz);
+    // |log₂x| = (FRAC − j) − log₂(m/2³¹) ∈ (0, FRAC] in Q.26 (rounded from Q.30).
+    let l_mag = (FRAC.wrapping_sub(j) << 26).wrapping_sub(log2_mantissa(m).wrapping_add(8) >> 4);
+    // w = e·|log₂x| in Q.26 from one 32×32→64 product (e in Q.FRAC).
+    let w = wmul(e as u32, l_mag) >> FRAC;
+    // 2^−w < 2^−(FRAC+1) rounds to zero (below half an ulp).
+    if w > ((FRAC as u64 + 1) << 26) {
+        return 0;
+    }
+    let w = w as u32;
+    // 2^−w = 2^f·2^−kk with kk = ⌈w⌉ and f = kk − w ∈ [0, 1) (f = 0 when w is
+    // an integer).
+    let f = w.wrapping_neg() & ((1 << 26) - 1);
+    let kk = w.wrapping_add((1 << 26) - 1) >> 26; // ≤ FRAC + 1
+    let p = exp2_fraction(f); // 2^f in Q1.31
+                              // raw = round(p·2^−kk·2^FRAC/2³¹): shift by 31 − FRAC + kk ∈ [7, 32], rounding.
+    let sh = (31 - FRAC).wrapping_add(kk);
+    ((p >> (sh.wrapping_sub(1) & 31)).wrapping_add(1) >> 1) as i32
+}
+
+// ---------------------------------------------------------------------------
+// Conversions.
+
+/// Raw value of an `f32`, rounded to nearest (ties away from zero),
+/// saturating, NaN to 0, from its bits alone.
+const fn raw_from_f32(v: f32) -> i32 {
+    let bits = v.to_bits();
+    let neg = bits >> 31 != 0;
+    let exp = ((bits >> 23) & 0xFF) as i32;
+    let man = bits & 0x7F_FFFF;
+    let sat = if neg { RAW_MIN } else { RAW_MAX };
+    if exp == 0xFF {
+        // Infinity saturates; NaN is 0.
+        return if man != 0 { 0 } else { sat };
+    }
+    // |v| = sig·2^e2: normal numbers have the implicit bit, subnormals
+    // (exponent field 0) the exponent of the smallest normal.
+    let (sig, e2) = if exp == 0 { (man, -149) } else { (man | 0x80_0000, exp - 150) };
+    // raw = round(sig·2^(e2 + FRAC)).
+    let sh = e2 + FRAC as i32;
+    let mag = if sh >= 0 {
+        // A left shift: exact, or beyond MAX.
+        if sig == 0 {
+            0
+        } else if sh >= 31 || sig > (RAW_MAX as u32) >> sh {
+            return sat;
+        } else {
+            sig << sh
+        }
+    } else {
+        let n = (-sh) as u32;
+        if n > 24 {
+            // sig < 2²⁴ ≤ 2^(n−1): below half an ulp.
+            0
+        } else {
+            // Add half of the last kept bit's weight and truncate: the
+            // magnitude rounds half up, i.e. ties away from zero.
+            sig.wrapping_add(1 << (n - 1)) >> n
+        }
+    };
+    // mag < 2²⁴ or checked against MAX above (so the negation is exact).
+    if neg {
+        (mag as i32).wrapping_neg()
+    } else {
+        mag as i32
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Operators.
+
+impl Add for Fixed32 {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        // saturating_add may give i32::MIN; −MAX is the bottom of the range.
+        Fixed32(self.0.saturating_add(o.0).max(RAW_MIN))
+    }
+}
+
+impl Sub for Fixed32 {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Fixed32(self.0.saturating_sub(o.0).max(RAW_MIN))
+    }
+}
+
+impl Neg for Fixed32 {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        // Raw values lie in [−MAX, MAX], so this is exact; saturating keeps
+        // it total anyway.
+        Fixed32(self.0.saturating_neg())
+    }
+}
+
+impl Mul for Fixed32 {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+        {
+            Fixed32(mul_raw_limbs(self.0, o.0))
+        }
+        #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+        {
+            Fixed32(mul_raw_native(self.0, o.0))
+        }
+    }
+}
+
+impl Div for Fixed32 {
+    type Output = Self;
+    // Out of line: ≈ 540 bytes of code on Armv6-M, too much to inline into
+    // every lane.
+    #[inline(never)]
+    fn div(self, o: Self) -> Self {
+        Fixed32(div_raw(self.0, o.0))
+    }
+}
+
+impl Scalar for Fixed32 {
+    const ZERO: Self = Fixed32(0);
+    const ONE: Self = Fixed32(RAW_ONE);
+    const HALF: Self = Fixed32(RAW_ONE / 2);
+    const TWO: Self = Fixed32(2 * RAW_ONE);
+    const MAX: Self = Fixed32(RAW_MAX);
+    /// `round(10⁻⁴·2^FRAC)` (1678 for FRAC = 24), the value
+    /// `from_f32(1e-4)` gives (unit-tested).
+    const RAY_EPSILON: Self = Fixed32((((1i64 << FRAC) + 5_000) / 10_000) as i32);
+    const MIN_WEIGHT: Self = Fixed32(RAW_ONE >> 9);
+    const LIMITED_RANGE: bool = true;
+    const COORDINATE_LIMIT: f32 = COORDINATE_LIMIT;
+    /// Lights only enter through directions and distances to them, which the
+    /// tracer forms without squaring large values (normalisation prescales:
+    /// [`Scalar::NORMALIZE_PRESCALE`]), so they may lie well outside the box:
+    /// a light–point difference then stays below `100 + 2`, inside the range.
+    const LIGHT_LIMIT: f32 = LIGHT_LIMIT;
+    const INTERMEDIATE_LIMIT: f32 = INTERMEDIATE_LIMIT;
+    /// Scenes are converted into the box `[−1, 1]³` (half the coordinate
+    /// limit, so values rounded on conversion stay inside the limit).
+    const SCENE_FRAME: Option<f32> = Some(1.0);
+    const NORMALIZE_PRESCALE: bool = true;
+
+    /// `2^k` for the `k` that brings `self` into `[½, 1)`, with `k` clamped to
+    /// `[−8, 6]` (so `2^k` is representable and a vector of components up to
+    /// the range's top comes down to below 1); 1 for zero. A multiplication
+    /// by it is a shift: exact for `k ≥ 0`, rounded once for `k < 0`.
+    #[inline]
+    fn normalizing_factor(self) -> Self {
+        let raw = self.0.max(0) as u32;
+        if raw == 0 {
+            return Self::ONE;
+        }
+        // Position of the top bit; [½, 1) has its top bit at FRAC − 1.
+        let top = 31 - raw.leading_zeros() as i32;
+        let k = (FRAC as i32 - 1 - top).clamp(-8, 6);
+        Fixed32(1 << (FRAC as i32 + k))
+    }
+    /// `round(clamp(v)·255)` (ties up) from the raw bits: `255` itself is not
+    /// representable in Q8.24, so the generic formula cannot be used.
+    #[inline]
+    fn to_unorm8(self) -> u8 {
+        let raw = self.0.clamp(0, RAW_ONE) as u32;
+        // raw·255 < 2³², and adding half an ulp of the result rounds.
+        ((raw * 255 + (1 << (FRAC - 1))) >> FRAC) as u8
+    }
+    /// `num / den` correctly rounded (ties away from zero) from the
+    /// integers, without forming `num` or `den` in the format (an image 512
+    /// pixels wide is beyond its range).
+    #[inline(never)]
+    fn ratio(num: u32, den: u32) -> Self {
+        if den == 0 {
+            return Self::MAX;
+        }
+        let (n, d) = ((num as u64) << FRAC, den as u64);
+        let q = (n + d / 2) / d;
+        Fixed32(q.min(RAW_MAX as u64) as i32)
+    }
+
+    #[inline]
+    fn from_f32(v: f32) -> Self {
+        Fixed32(raw_from_f32(v))
+    }
+    #[inline]
+    fn from_i32(v: i32) -> Self {
+        // Exact for |v| ≤ MAX's integer part, else saturating.
+        const LIM: i32 = RAW_MAX >> FRAC;
+        Fixed32(if v > LIM {
+            RAW_MAX
+        } else if v < -LIM {
+            RAW_MIN
+        } else {
+            v << FRAC
+        })
+    }
+    #[inline]
+    fn to_f32(self) -> f32 {
+        // One rounding (i32 → f32, to nearest even); the power-of-two scale
+        // is exact.
+        self.0 as f32 * (1.0 / RAW_ONE as f32)
+    }
+    // Out of line, like `div`.
+    #[inline(never)]
+    fn sqrt(self) -> Self {
+        if self.0 <= 0 {
+            return Self::ZERO;
+        }
+        // r < 2^(15.5 + FRAC/2) ≤ 2²⁹: always fits.
+        Fixed32(sqrt_raw(self.0 as u32) as i32)
+    }
+    /// `self^e` for `self ∈ [0, 1]`, `e ≥ 0`: `e ≤ 0` or `self ≥ 1` give 1,
+    /// `self ≤ 0` (with `e > 0`) gives 0. Absolute error ≤ 2⁻¹⁹ measured
+    /// (see the module documentation).
+    #[inline(never)]
+    fn powf(self, e: Self) -> Self {
+        let (x, e) = (self.0, e.0);
+        if e <= 0 || x >= RAW_ONE {
+            return Self::ONE;
+        }
+        if x <= 0 {
+            return Self::ZERO;
+        }
+        Fixed32(powf_raw(x, e))
+    }
+    #[inline]
+    fn floor_to_i32(self) -> i32 {
+        // An arithmetic shift floors.
+        self.0 >> FRAC
+    }
+    #[inline]
+    fn is_finite(self) -> bool {
+        true
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        Fixed32(self.0.saturating_abs())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::format;
+    use std::vec::Vec;
+
+    const ULP: f64 = 1.0 / RAW_ONE as f64;
+
+    fn fx(v: f64) -> Fixed32 {
+        Fixed32::from_f64(v)
+    }
+
+    /// xorshift64*, seeded: operands for the property tests.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        }
+        fn u32(&mut self) -> u32 {
+            (self.next() >> 32) as u32
+        }
+        /// Raw operands: extremes, small values, values near one and near
+        /// the saturation thresholds, and random bits at every magnitude.
+        fn raw(&mut self) -> i32 {
+            let special = [
+                0,
+                1,
+                -1,
+                2,
+                RAW_MAX,
+                RAW_MIN,
+                RAW_MAX - 1,
+                i32::MIN,
+                RAW_ONE,
+                -RAW_ONE,
+                RAW_ONE - 1,
+                RAW_ONE + 1,
+                RAW_ONE / 2,
+                1 << 30,
+                -(1 << 30),
+                1 << 15,
+                46_341 << 12,
+                0xB504,
+            ];
+            let r = self.u32();
+            match self.next() % 5 {
+                0 => special[(self.next() % special.len() as u64) as usize],
+                1 => (r as i32) >> (self.next() % 32),
+                2 => RAW_ONE.wrapping_add((r as i32) >> 12),
+                // Near √MAX, where products cross the saturation threshold.
+                3 => (0xB504_F333u32 >> ((32 - FRAC) / 2)) as i32 + ((r as i32) >> 20),
+                _ => r as i32,
+            }
+        }
+    }
+
+    fn clamp(v: i128) -> i32 {
+        v.clamp(RAW_MIN as i128, RAW_MAX as i128) as i32
+    }
+
+    #[test]
+    fn constants() {
+        assert_eq!(Fixed32::ONE.to_f64(), 1.0);
+        assert_eq!(Fixed32::HALF.to_f64(), 0.5);
+        assert_eq!(Fixed32::TWO.to_f64(), 2.0);
+        assert_eq!(Fixed32::MIN_WEIGHT.to_f64(), 1.0 / 512.0);
+        assert_eq!(Fixed32::MAX.to_f64(), (1u64 << (31 - FRAC)) as f64 - ULP);
+        assert_eq!(Fixed32::RAY_EPSILON, Fixed32::from_f32(1.0e-4));
+        assert_eq!(Fixed32::RAY_EPSILON, fx(1.0e-4));
+        assert_eq!(COORDINATE_LIMIT, 2.0);
+        // The box rule: 12·R² within half the range.
+        let r = COORDINATE_LIMIT as f64;
+        assert!(12.0 * r * r <= Fixed32::MAX.to_f64() / 2.0 && 12.0 * 4.0 * r * r > Fixed32::MAX.to_f64() / 2.0);
+    }
+
+    #[test]
+    fn integer_conversions_and_floor() {
+        assert_eq!(Fixed32::from_i32(-7).to_f64(), -7.0);
+        assert_eq!(Fixed32::from_i32(127), fx(127.0));
+        assert_eq!(Fixed32::from_i32(128), Fixed32::MAX);
+        assert_eq!(Fixed32::from_i32(i32::MIN), -Fixed32::MAX);
+        assert_eq!(Fixed32::from_i32(i32::MAX), Fixed32::MAX);
+        assert_eq!(fx(1.5).floor_to_i32(), 1);
+        assert_eq!(fx(-1.5).floor_to_i32(), -2);
+        assert_eq!(Fixed32::from_bits(-1).floor_to_i32(), -1);
+        assert_eq!(Fixed32::MAX.floor_to_i32(), RAW_MAX >> FRAC);
+        assert_eq!(Fixed32::from_bits(i32::MIN).to_bits(), RAW_MIN);
+        assert!(Fixed32::MAX.is_finite());
+    }
+
+    #[test]
+    fn from_f32_edge_cases() {
+        assert_eq!(Fixed32::from_f32(f32::NAN), Fixed32::ZERO);
+        assert_eq!(Fixed32::from_f32(-f32::NAN), Fixed32::ZERO);
+        assert_eq!(Fixed32::from_f32(f32::INFINITY), Fixed32::MAX);
+        assert_eq!(Fixed32::from_f32(f32::NEG_INFINITY), -Fixed32::MAX);
+        assert_eq!(Fixed32::from_f32(0.0), Fixed32::ZERO);
+        assert_eq!(Fixed32::from_f32(-0.0), Fixed32::ZERO);
+        assert_eq!(Fixed32::from_f32(f32::MIN_POSITIVE), Fixed32::ZERO);
+        assert_eq!(Fixed32::from_f32(1.0e-45), Fixed32::ZERO);
+        assert_eq!(Fixed32::from_f32(3.0e38), Fixed32::MAX);
+        assert_eq!(Fixed32::from_f32(-3.0e38), -Fixed32::MAX);
+        assert_eq!(Fixed32::from_f32(128.0), Fixed32::MAX);
+        assert_eq!(Fixed32::from_f32(-128.0), -Fixed32::MAX);
+        assert_eq!(Fixed32::from_f32(127.99999), fx(127.99999237060547));
+        assert_eq!(Fixed32::from_f32(-2.5).to_f32(), -2.5);
+        // Exact halves of an ulp round away from zero; just below rounds down.
+        let half = 0.5 * ULP as f32;
+        assert_eq!(Fixed32::from_f32(half).to_bits(), 1);
+        assert_eq!(Fixed32::from_f32(-half).to_bits(), -1);
+        assert_eq!(Fixed32::from_f32(half * 0.999_999).to_bits(), 0);
+        assert_eq!(Fixed32::from_f32(1.5 * ULP as f32).to_bits(), 2);
+        assert_eq!(Fixed32::from_f32(2.5 * ULP as f32).to_bits(), 3);
+        // 0.1f32 = 13421773·2⁻²⁷ → 13421773/8 = 1677721.625 → 1677722.
+        assert_eq!(Fixed32::from_f32(0.1).to_bits(), 1_677_722);
+    }
+
+    /// `from_f32` against the f64 reference (exact for every f32) over every
+    /// exponent with edge and random mantissas, both signs.
+    #[test]
+    fn from_f32_matches_f64_reference() {
+        let mut rng = Rng(0xF32);
+        let check = |bits: u32| {
+            let v = f32::from_bits(bits);
+            assert_eq!(Fixed32::from_f32(v), Fixed32::from_f64(v as f64), "{v:e} ({bits:#x})");
+        };
+        for exp in 0..=255u32 {
+            for man in [0, 1, 2, 0x40_0000, 0x7F_FFFF, 0x7F_FFFE, 0x3F_FFFF, 0x40_0001] {
+                check(exp << 23 | man);
+                check(1 << 31 | exp << 23 | man);
+            }
+            for _ in 0..2_000 {
+                let man = rng.u32() & 0x7F_FFFF;
+                check(exp << 23 | man | (rng.u32() & (1 << 31)));
+            }
+        }
+        for _ in 0..1_000_000 {
+            check(rng.u32());
+        }
+    }
+
+    #[test]
+    fn clz_soft_matches_hardware() {
+        let mut rng = Rng(3);
+        for s in 0..32 {
+            let x = 1u32 << s;
+            assert_eq!(clz_soft(x), x.leading_zeros());
+            assert_eq!(clz_soft(x | (x - 1)), x.leading_zeros());
+        }
+        for _ in 0..100_000 {
+            let x = rng.u32() >> (rng.u32() % 32);
+            if x != 0 {
+                assert_eq!(clz_soft(x), x.leading_zeros(), "{x:#x}");
+            }
+        }
+    }
+
+    #[test]
+    fn wide_products_agree() {
+        let mut rng = Rng(0x11AB);
+        let edges = [0, 1, 0xFFFF, 0x1_0000, 0x8000_0000, 0xFFFF_FFFF, 0x7FFF_FFFF, 0xFFFF_0000, 0x0000_FFFF];
+        for &a in &edges {
+            for &b in &edges {
+                assert_eq!(wmul_limbs(a, b), wmul_native(a, b), "{a:#x}·{b:#x}");
+            }
+        }
+        for _ in 0..1_000_000 {
+            let (a, b) = (rng.u32(), rng.u32());
+            assert_eq!(wmul_limbs(a, b), wmul_native(a, b), "{a:#x}·{b:#x}");
+            let w = a & 0xFFFF;
+            assert_eq!(mul16x32(w, b), wmul_native(w, b));
+        }
+    }
+
+    /// The Armv6-M product and the portable one give the same bits, and both
+    /// match the exact product rounded half up, on edge cases and millions
+    /// of seeded pairs (including i32::MIN raws, which `from_bits` never
+    /// lets through, and pairs near the saturation threshold).
+    #[test]
+    fn mul_variants_agree_and_round_half_up() {
+        let mut rng = Rng(0x5EED);
+        let check = |a: i32, b: i32| {
+            let want = clamp((a as i128 * b as i128 + (1 << (FRAC - 1))).div_euclid(1 << FRAC));
+            assert_eq!(mul_raw_native(a, b), want, "{a} * {b}");
+            assert_eq!(mul_raw_limbs(a, b), want, "{a} * {b} (limbs)");
+        };
+        let edges = [
+            0,
+            1,
+            -1,
+            2,
+            -2,
+            RAW_MAX,
+            RAW_MIN,
+            i32::MIN,
+            RAW_ONE,
+            -RAW_ONE,
+            RAW_ONE / 2,
+            -RAW_ONE / 2,
+            0xB504_F33,
+            -0xB504_F33,
+            0xB504_F34,
+            0xFFFF,
+            0x10000,
+            -0x10000,
+        ];
+        for &a in &edges {
+            for &b in &edges {
+                check(a, b);
+            }
+        }
+        for _ in 0..3_000_000 {
+            check(rng.raw(), rng.raw());
+        }
+        // Ties: ±½ ulp products go up.
+        assert_eq!((Fixed32::from_bits(1) * Fixed32::HALF).to_bits(), 1);
+        assert_eq!((Fixed32::from_bits(-1) * Fixed32::HALF).to_bits(), 0);
+        assert_eq!((Fixed32::from_bits(3) * Fixed32::HALF).to_bits(), 2);
+        assert_eq!((Fixed32::from_bits(-3) * Fixed32::HALF).to_bits(), -1);
+    }
+
+    #[test]
+    fn add_sub_neg_exact_and_saturating() {
+        assert_eq!(fx(1.5) + fx(2.25), fx(3.75));
+        assert_eq!(fx(1.5) - fx(2.25), fx(-0.75));
+        assert_eq!(Fixed32::MAX + Fixed32::ONE, Fixed32::MAX);
+        assert_eq!(-Fixed32::MAX - Fixed32::ONE, -Fixed32::MAX);
+        assert_eq!(-Fixed32::MAX - Fixed32::MAX, -Fixed32::MAX);
+        assert_eq!(Fixed32::MAX - -Fixed32::MAX, Fixed32::MAX);
+        assert_eq!((-Fixed32::MAX).to_bits(), RAW_MIN);
+        assert_eq!((-Fixed32::MAX).abs(), Fixed32::MAX);
+        let mut rng = Rng(77);
+        for _ in 0..1_000_000 {
+            let (a, b) = (Fixed32::from_bits(rng.raw()), Fixed32::from_bits(rng.raw()));
+            let (ea, eb) = (a.to_bits() as i128, b.to_bits() as i128);
+            assert_eq!((a + b).to_bits(), clamp(ea + eb));
+            assert_eq!((a - b).to_bits(), clamp(ea - eb));
+            assert_eq!((-a).to_bits(), clamp(-ea));
+            assert_eq!(a.abs().to_bits(), clamp(ea.abs()));
+            assert_eq!(a < b, ea < eb);
+            assert_eq!(a.cmp(&b), ea.cmp(&eb));
+        }
+    }
+
+    /// The exact reference: `round(a·2^FRAC/b)`, ties away from zero, clamped.
+    fn div_reference(a: i32, b: i32) -> i32 {
+        if b == 0 {
+            return if a > 0 {
+                RAW_MAX
+            } else if a < 0 {
+                RAW_MIN
+            } else {
+                0
+            };
+        }
+        let (n, d) = ((a as i128) << FRAC, b as i128);
+        let (q, r) = (n / d, n % d); // truncated: r has n's sign
+        let q = if 2 * r.abs() >= d.abs() { q + if (n < 0) == (d < 0) { 1 } else { -1 } } else { q };
+        clamp(q)
+    }
+
+    #[test]
+    fn div_is_correctly_rounded() {
+        assert_eq!(fx(-3.375) / fx(1.5), fx(-2.25));
+        assert_eq!((fx(1.0) / fx(3.0)).to_bits(), (RAW_ONE + 1) / 3);
+        assert_eq!((fx(2.0) / fx(3.0)).to_bits(), div_reference(2 * RAW_ONE, 3 * RAW_ONE));
+        assert_eq!(fx(3.0) / Fixed32::ZERO, Fixed32::MAX);
+        assert_eq!(fx(-3.0) / Fixed32::ZERO, -Fixed32::MAX);
+        assert_eq!(Fixed32::ZERO / Fixed32::ZERO, Fixed32::ZERO);
+        assert_eq!(Fixed32::MAX / fx(-1.0), -Fixed32::MAX);
+        assert_eq!((-Fixed32::MAX) / fx(-1.0), Fixed32::MAX);
+        assert_eq!(Fixed32::ONE / Fixed32::from_bits(1), Fixed32::MAX);
+        // Ties: 1 ulp / 2 = ½ ulp → 1 ulp, and −½ ulp → −1 ulp (away from 0).
+        assert_eq!((Fixed32::from_bits(1) / Fixed32::TWO).to_bits(), 1);
+        assert_eq!((Fixed32::from_bits(-1) / Fixed32::TWO).to_bits(), -1);
+        let mut rng = Rng(0xD1D);
+        let check = |a: i32, b: i32| {
+            let want = div_reference(a, b);
+            assert_eq!(div_raw(a, b), want, "{a} / {b}");
+            assert_eq!(div_raw_with(a, b, div_words_hw32), want, "{a} / {b} (hw32)");
+            assert_eq!(div_raw_with(a, b, div_words_reciprocal), want, "{a} / {b} (reciprocal)");
+        };
+        let edges = [
+            0,
+            1,
+            -1,
+            2,
+            3,
+            RAW_MAX,
+            RAW_MIN,
+            i32::MIN,
+            RAW_ONE,
+            -RAW_ONE,
+            RAW_ONE - 1,
+            RAW_ONE + 1,
+            1 << 30,
+            (1 << 30) + 1,
+            0x7FFF,
+            0x8000,
+            0xFFFF,
+            0x1_0000,
+            0x1_0001,
+            RAW_MAX >> (31 - FRAC),
+            (RAW_MAX >> (31 - FRAC)) + 1,
+        ];
+        for &a in &edges {
+            for &b in &edges {
+                check(a, b);
+            }
+        }
+        for _ in 0..2_000_000 {
+            let (a, b) = (rng.raw(), rng.raw());
+            check(a, b);
+            // Quotients near the saturation threshold: b ≈ a/2^(31−FRAC).
+            let b2 = (a >> (31 - FRAC)).wrapping_add((rng.u32() % 5) as i32 - 2);
+            check(a, b2);
+        }
+    }
+
+    /// The three two-word divisions agree with `u64` division, on edge
+    /// cases and random normalised divisors and numerators.
+    #[test]
+    fn two_word_divisions_agree() {
+        let mut rng = Rng(0x2D1);
+        let check = |u1: u32, u0: u32, d: u32| {
+            let n = ((u1 as u64) << 32) | u0 as u64;
+            let want = ((n / d as u64) as u32, (n % d as u64) as u32);
+            assert_eq!(div_words_native(u1, u0, d), want);
+            assert_eq!(div_words_hw32(u1, u0, d), want, "hw32 {u1:#x}:{u0:#x} / {d:#x}");
+            assert_eq!(div_words_reciprocal(u1, u0, d), want, "reciprocal {u1:#x}:{u0:#x} / {d:#x}");
+        };
+        for d in [0x8000_0000u32, 0x8000_0001, 0xFFFF_FFFF, 0xFFFF_0000, 0x8000_FFFF, 0xC000_0000, 0xFFFE_0001] {
+            for u1 in [0, 1, d >> 1, d - 1, d - 2, 0x7FFF_FFFF.min(d - 1)] {
+                for u0 in [0, 1, 0xFFFF, 0x1_0000, 0x8000_0000, u32::MAX] {
+                    check(u1, u0, d);
+                }
+            }
+        }
+        for i in 0..2_000_000u32 {
+            let d = rng.u32() | 0x8000_0000;
+            let d = match i % 4 {
+                0 => d | 0xFFFF,
+                1 => d & 0xFFFF_0000,
+                _ => d,
+            };
+            let u1 = match i % 3 {
+                0 => d - 1 - (rng.u32() & 0xFF).min(d - 1),
+                1 => rng.u32() % d,
+                _ => (rng.u32() >> (rng.u32() % 32)) % d,
+            };
+            check(u1, rng.u32(), d);
+        }
+    }
+
+    /// The 16-bit reciprocal for every input: a lower bound of 2³²/dh
+    /// within 4 units (what the digit estimates rely on).
+    #[test]
+    fn reciprocal16_is_a_tight_lower_bound() {
+        let mut worst = 0;
+        for dh in (1u32 << 15) + 1..=1 << 16 {
+            let w = (1u64 << 16) + reciprocal16(dh) as u64;
+            assert!(w * dh as u64 <= 1 << 32, "{dh}: W = {w} too large");
+            let gap = (1u64 << 32) / dh as u64 - w;
+            worst = worst.max(gap);
+        }
+        assert!(worst <= 4, "reciprocal16 up to {worst} units low");
+    }
+
+    fn sqrt_ok(raw: i32) {
+        let r = Fixed32::from_bits(raw).sqrt().to_bits() as i128;
+        if raw <= 0 {
+            assert_eq!(r, 0);
+            return;
+        }
+        // (r − ½)² ≤ n < (r + ½)², i.e. (2r − 1)² ≤ 4n < (2r + 1)².
+        let n = (raw as i128) << FRAC;
+        assert!((2 * r - 1) * (2 * r - 1) <= 4 * n && 4 * n < (2 * r + 1) * (2 * r + 1), "sqrt({raw}) = {r}");
+    }
+
+    #[test]
+    fn sqrt_is_correctly_rounded() {
+        for raw in (0..4096).chain([
+            RAW_MAX,
+            RAW_MAX - 1,
+            RAW_ONE,
+            RAW_ONE - 1,
+            4 * RAW_ONE,
+            -1,
+            RAW_MIN,
+            1 << 30,
+            (1 << 30) - 1,
+        ]) {
+            sqrt_ok(raw);
+        }
+        for s in 0..31 {
+            for delta in -3..=3 {
+                sqrt_ok((1i32 << s).wrapping_add(delta));
+            }
+        }
+        // Around perfect squares and the midpoints between them.
+        for r in (1..46_341i64).step_by(97) {
+            for n in [r * r, r * r + r, r * r + r + 1, r * r - 1] {
+                if n >> FRAC > 0 && n <= RAW_MAX as i64 {
+                    sqrt_ok(n as i32);
+                }
+            }
+        }
+        let mut rng = Rng(0x5C27);
+        for _ in 0..1_000_000 {
+            sqrt_ok(rng.raw());
+        }
+        assert_eq!(fx(4.0).sqrt(), fx(2.0));
+        assert_eq!(fx(2.0).sqrt(), fx(core::f64::consts::SQRT_2));
+        assert_eq!(fx(-4.0).sqrt(), Fixed32::ZERO);
+    }
+
+    /// All 2³¹ − 1 positive inputs (about a minute in release:
+    /// `cargo test --release --lib exhaustive_sqrt -- --ignored`).
+    #[test]
+    #[ignore]
+    fn exhaustive_sqrt() {
+        for raw in 1..=RAW_MAX {
+            sqrt_ok(raw);
+        }
+    }
+
+    #[test]
+    fn pow_table_matches_f64() {
+        for (i, &t) in LOG2_STEP.iter().enumerate() {
+            let want = libm::log2(1.0 + libm::exp2(-((i + 1) as f64))) * (1u64 << 30) as f64;
+            assert!((t as f64 - want).abs() <= 0.5, "entry {i}: {t} vs {want}");
+        }
+        assert_eq!(INV_LN2_Q15, libm::round((1u64 << 15) as f64 / core::f64::consts::LN_2) as u32);
+        assert_eq!(LN2_Q16, libm::round((1u64 << 16) as f64 * core::f64::consts::LN_2) as u32);
+        for (i, &s) in RSQRT_SEED.iter().enumerate() {
+            let y = (1u64 << 31) as f64 / libm::sqrt((i as f64 + 8.5) * (1u64 << 27) as f64);
+            assert_eq!(s as f64, libm::round((y - 32768.0) / 128.0), "seed {i}");
+        }
+    }
+
+    #[test]
+    fn log2_and_exp2_pieces_are_accurate() {
+        let mut worst_log: f64 = 0.0;
+        for m in (0x8000_0000u32..=u32::MAX).step_by(4_099) {
+            let got = log2_mantissa(m) as f64 / (1u64 << 30) as f64;
+            worst_log = worst_log.max((got - libm::log2(m as f64 / (1u64 << 31) as f64)).abs());
+        }
+        assert!(worst_log < libm::exp2(-27.0), "log2 error {worst_log:e}");
+        let mut worst_exp: f64 = 0.0;
+        for f in (0..1u32 << 26).step_by(1_031) {
+            let got = exp2_fraction(f) as f64 / (1u64 << 31) as f64;
+            worst_exp = worst_exp.max((got - libm::exp2(f as f64 / (1u64 << 26) as f64)).abs());
+        }
+        assert!(worst_exp < libm::exp2(-26.0), "exp2 error {worst_exp:e}");
+    }
+
+    /// Every input of the two shift-and-add kernels (2³¹ mantissas, 2²⁶
+    /// fractions): within their error bounds, and no overflow (run it with
+    /// overflow checks: `CARGO_PROFILE_RELEASE_OVERFLOW_CHECKS=true cargo
+    /// test --release --lib exhaustive_log2_exp2 -- --ignored`).
+    #[test]
+    #[ignore]
+    fn exhaustive_log2_exp2() {
+        for m in 0x8000_0000u32..=u32::MAX {
+            let got = log2_mantissa(m) as f64 / (1u64 << 30) as f64;
+            let want = libm::log2(m as f64 / (1u64 << 31) as f64);
+            assert!((got - want).abs() < libm::exp2(-27.0), "log2 {m:#x}");
+        }
+        for f in 0..1u32 << 26 {
+            let got = exp2_fraction(f) as f64 / (1u64 << 31) as f64;
+            assert!((got - libm::exp2(f as f64 / (1u64 << 26) as f64)).abs() < libm::exp2(-26.0), "exp2 {f}");
+        }
+    }
+
+    /// `powf` against f64 `pow` of the same (quantised) operands on a grid of
+    /// x over (0, 1) (dense near 1, where large exponents are most
+    /// sensitive) and e up to MAX: absolute error ≤ 2⁻¹⁹.
+    #[test]
+    fn powf_matches_f64_pow() {
+        let mut worst: f64 = 0.0;
+        let mut xs: Vec<i32> = (1..=RAW_ONE).step_by(4_093).collect();
+        xs.extend((1..20_000).map(|k| RAW_ONE - k * 7));
+        xs.extend((0..24).map(|s| 1 << s));
+        let es: Vec<f64> =
+            [0.001, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 5.0, 7.7, 10.0, 16.0, 20.0, 32.0, 50.0, 64.0, 100.0, 127.0, 127.99]
+                .into_iter()
+                .collect();
+        for &x in &xs {
+            for &e in &es {
+                let (xf, ef) = (Fixed32::from_bits(x), fx(e));
+                let want = libm::pow(xf.to_f64(), ef.to_f64());
+                let got = xf.powf(ef).to_f64();
+                worst = worst.max((got - want).abs());
+                assert!((got - want).abs() <= libm::exp2(-19.0), "{xf}^{ef} = {got}, want {want}");
+            }
+        }
+        assert!(worst > 0.0);
+        assert_eq!(fx(0.5).powf(fx(2.0)), fx(0.25));
+        assert_eq!(fx(0.5).powf(Fixed32::ZERO), Fixed32::ONE);
+        assert_eq!(fx(0.5).powf(fx(-1.0)), Fixed32::ONE);
+        assert_eq!(Fixed32::ZERO.powf(fx(3.0)), Fixed32::ZERO);
+        assert_eq!(fx(-0.5).powf(fx(3.0)), Fixed32::ZERO);
+        assert_eq!(Fixed32::ONE.powf(Fixed32::MAX), Fixed32::ONE);
+        assert_eq!(fx(2.0).powf(fx(3.0)), Fixed32::ONE);
+        assert_eq!(fx(0.5).powf(Fixed32::MAX), Fixed32::ZERO);
+        // The integer algorithm and the f32 one agree to well under an 8-bit step.
+        assert!((fx(0.8).powf(fx(12.5)).to_f64() - crate::num::unit_pow::powf_unit(0.8, 12.5) as f64).abs() < 1.0e-5);
+    }
+
+    #[test]
+    fn display_is_shortest_round_trip() {
+        assert_eq!(format!("{}", fx(0.1)), "0.1");
+        assert_eq!(format!("{}", fx(-2.5)), "-2.5");
+        assert_eq!(format!("{}", fx(3.0)), "3");
+        assert_eq!(format!("{}", Fixed32::ZERO), "0");
+        assert_eq!(format!("{:?}", fx(0.25)), "0.25");
+        assert_eq!(format!("{:>6}", fx(1.5)), "   1.5");
+        let mut rng = Rng(0xD15);
+        for _ in 0..100_000 {
+            let x = Fixed32::from_bits(rng.raw());
+            let s = format!("{x}");
+            let back: f64 = s.parse().unwrap();
+            assert_eq!(Fixed32::from_f64(back), x, "{s}");
+            // Shortest: one digit fewer does not round-trip.
+            if let Some(dot) = s.find('.') {
+                let digits = s.len() - dot - 1;
+                let shorter = format!("{:.*}", digits - 1, back);
+                assert_ne!(Fixed32::from_f64(shorter.parse().unwrap()), x, "{s} vs {shorter}");
+            }
+        }
+        assert_eq!(format!("{}", Fixed32::MAX), format!("{}", Fixed32::MAX.to_f64()).get(..12).unwrap());
+    }
+
+    /// Nothing panics on any operands (overflow checks are on in tests).
+    #[test]
+    fn property_no_panics() {
+        let mut rng = Rng(0xBADC0DE);
+        for _ in 0..300_000 {
+            let (a, b) = (Fixed32::from_bits(rng.raw()), Fixed32::from_bits(rng.raw()));
+            let _ = (a + b, a - b, a * b, a / b, -a, a.abs(), a.sqrt(), a.floor_to_i32(), a.to_unorm8(), a.to_f32());
+            let _ = a.abs().min(Fixed32::ONE).powf(b.abs());
+            let _ = a.powf(b);
+        }
+    }
+}

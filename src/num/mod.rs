@@ -1,0 +1,13 @@
+//! Numbers: the [`Scalar`](scalar::Scalar) trait every algorithm is written
+//! against, its implementations (`f32`, the Q8.24 [`Fixed32`](fixed32::Fixed32),
+//! the 32.32 [`Fixed`](fixed64::Fixed)), packet lanes and masks, and the
+//! deterministic power function. The bottom layer: it uses nothing else of
+//! the crate.
+
+pub mod fixed32;
+pub mod fixed64;
+pub mod lanes;
+pub mod scalar;
+#[cfg(test)]
+pub(crate) mod test_rng;
+pub mod unit_pow;

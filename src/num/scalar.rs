@@ -1,0 +1,332 @@
+//! The [`Scalar`] trait: the number type every algorithm in raypack is written
+//! against.
+//!
+//! Two implementations exist: `f32` (here) and the fixed-point scalar. All
+//! geometry, shading and camera code is generic over `Scalar`, so a scene
+//! traced with `f32` and with fixed point runs the very same code.
+//!
+//! # Determinism
+//! Every operation must give the same bits on every target. For `f32` that
+//! means: plain IEEE operations (correctly rounded in hardware and in
+//! soft-float alike), no `mul_add`, no reassociation, and transcendental
+//! functions from the pure-Rust `libm` crate, never from the platform's C
+//! library. `sqrt` is the one exception that may use the compiler intrinsic
+//! (with `std`): IEEE requires it to be correctly rounded, so `f32::sqrt` and
+//! `libm::sqrtf` agree bit for bit, and only the intrinsic vectorizes.
+
+use core::fmt::Debug;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A real-number type the tracer computes with.
+///
+/// Implementations must be total: no operation may panic, whatever the
+/// operands (division by zero included). Results of meaningless operations
+/// (such as `0 / 0`) may be arbitrary but must be deterministic; the tracer
+/// masks such lanes out before it uses them.
+pub trait Scalar:
+    Copy
+    + Debug
+    + PartialEq
+    + PartialOrd
+    + Default
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// Zero.
+    const ZERO: Self;
+    /// One.
+    const ONE: Self;
+    /// One half.
+    const HALF: Self;
+    /// Two.
+    const TWO: Self;
+    /// The largest finite value. Stands for "infinitely far" (the initial
+    /// `t_max` of a ray, an unbounded slab), so it must compare greater than
+    /// every distance a scene can produce.
+    const MAX: Self;
+    /// Relative size of the offset that moves a secondary ray's origin off the
+    /// surface it leaves; the offset is `RAY_EPSILON · (1 + max|P|)`.
+    const RAY_EPSILON: Self;
+    /// Weights below this end a path (the "minimum contribution" cut-off).
+    const MIN_WEIGHT: Self;
+    /// Whether the type's range is small enough that scenes must be checked
+    /// against [`Scalar::COORDINATE_LIMIT`] (fixed point); `false` for `f32`.
+    const LIMITED_RANGE: bool = false;
+    /// The largest coordinate magnitude a scene may use with this type, so
+    /// that the tracer's largest intermediates (squared distances between
+    /// scene points) stay representable; see [`crate::geom::fixed_range`]. Unlimited
+    /// (`f32::MAX`) for `f32`.
+    const COORDINATE_LIMIT: f32 = f32::MAX;
+    /// The largest coordinate magnitude a light may have with this type
+    /// (lights only enter the tracer through directions and distances to
+    /// them, which the tracer forms without squaring large values, so they
+    /// may lie further out than the scene). Unlimited for `f32`.
+    const LIGHT_LIMIT: f32 = f32::MAX;
+    /// The largest single intermediate a kernel may form with this type
+    /// (quadric and cone discriminant terms are checked against it; see
+    /// [`crate::geom::fixed_range`]). Unlimited (`f32::MAX`) for `f32`.
+    const INTERMEDIATE_LIMIT: f32 = f32::MAX;
+    /// Whether wider vector units speed this type up: the instruction-set
+    /// dispatcher (`dispatch`, std) compiles AVX2 and AVX-512 copies of the
+    /// render path only for such scalars (each copy costs compile time).
+    /// `true` for `f32`; `false` by default (integer fixed point gains
+    /// little from them).
+    const PACKED: bool = false;
+
+    /// The half-extent of the box a scene is converted into before tracing
+    /// with this type ([`crate::geom::uniform_scale`]: the scene's bounded
+    /// primitives and the eye, centred, scaled uniformly), or `None` to
+    /// trace scenes in their own units. `None` for `f32` and 32.32 fixed
+    /// point; the Q8.24 fixed point needs the small box for its range.
+    const SCENE_FRAME: Option<f32> = None;
+    /// Whether vectors are brought to a magnitude near 1 before they are
+    /// normalized ([`Scalar::normalizing_factor`]): for fixed point, whose
+    /// squares overflow for long vectors and lose their digits for short
+    /// ones. `false` for `f32`, whose exponent does that for free.
+    const NORMALIZE_PRESCALE: bool = false;
+
+    /// A power of two `f` (so `v·f` is exact) that brings a magnitude
+    /// `self >= 0` near 1; used only when [`Scalar::NORMALIZE_PRESCALE`]
+    /// is set. The default is 1.
+    #[inline(always)]
+    fn normalizing_factor(self) -> Self {
+        Self::ONE
+    }
+
+    /// `num / den` for image coordinates (the camera's pixel centres:
+    /// `(2i + 1)/W`), `den > 0`. The default divides the two numbers in the
+    /// type, which is exact for `f32` and 32.32; a type whose range does
+    /// not hold image sizes overrides it.
+    #[inline(always)]
+    fn ratio(num: u32, den: u32) -> Self {
+        Self::from_i32(num as i32) / Self::from_i32(den as i32)
+    }
+
+    /// Converts from `f32` (set-up time only: scene input, camera angles).
+    /// Out-of-range values saturate; NaN becomes zero.
+    fn from_f32(v: f32) -> Self;
+    /// Converts from a (small) integer, exactly where the type allows.
+    fn from_i32(v: i32) -> Self;
+    /// Converts to `f32` (for reports and tests, never on the render path).
+    fn to_f32(self) -> f32;
+    /// Square root, correctly rounded. Negative input gives a value the caller
+    /// must mask out (NaN for `f32`).
+    fn sqrt(self) -> Self;
+    /// `self` raised to the power `e`, for `self` in `[0, 1]` and `e >= 0`
+    /// (the Phong highlight). Deterministic on every target.
+    fn powf(self, e: Self) -> Self;
+    /// `floor(self)` as an integer, saturating; NaN gives 0.
+    fn floor_to_i32(self) -> i32;
+    /// Whether the value is a finite number (always true for fixed point).
+    fn is_finite(self) -> bool;
+
+    /// Absolute value.
+    #[inline(always)]
+    fn abs(self) -> Self {
+        if self < Self::ZERO {
+            -self
+        } else {
+            self
+        }
+    }
+    /// The smaller of two values (`other` when they are unordered).
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        if self < other {
+            self
+        } else {
+            other
+        }
+    }
+    /// The larger of two values (`other` when they are unordered).
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        if self > other {
+            self
+        } else {
+            other
+        }
+    }
+    /// `a` where `mask` is set, else `b`: the per-lane step of
+    /// [`crate::num::lanes::Lanes::select`]. `mask` is a lane word of a
+    /// [`crate::num::lanes::Mask`], all ones or zero. `f32` overrides it with a
+    /// bitwise blend of the two bit patterns (same result, every bit): LLVM's
+    /// vectorizer keeps a bitwise select of 16 lanes in whole 512-bit
+    /// registers, where the branchy form made it split 16-lane packets into
+    /// shuffled 2/2/4/8-lane pieces with stack spills (3× slower sphere tests).
+    #[inline(always)]
+    fn blend(mask: u32, a: Self, b: Self) -> Self {
+        if mask != 0 {
+            a
+        } else {
+            b
+        }
+    }
+    /// Clamps to `[0, 1]`; anything unordered (NaN) becomes 0.
+    #[inline(always)]
+    fn clamp01(self) -> Self {
+        // `max` returns its argument for NaN, so NaN becomes 0 here.
+        self.max(Self::ZERO).min(Self::ONE)
+    }
+    /// Quantizes a linear value in `[0, 1]` to 8 bits: `round(clamp(v)·255)`.
+    #[inline(always)]
+    fn to_unorm8(self) -> u8 {
+        let v = self.clamp01() * Self::from_i32(255) + Self::HALF;
+        let i = v.floor_to_i32();
+        if i < 0 {
+            0
+        } else if i > 255 {
+            255
+        } else {
+            i as u8
+        }
+    }
+}
+
+impl Scalar for f32 {
+    const PACKED: bool = true;
+    /// Bitwise blend (see [`Scalar::blend`]): exactly `a` or `b`, NaN
+    /// payloads and signed zeros included, as `mask` is all ones or zero.
+    #[inline(always)]
+    fn blend(mask: u32, a: Self, b: Self) -> Self {
+        f32::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
+    }
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const HALF: Self = 0.5;
+    const TWO: Self = 2.0;
+    const MAX: Self = f32::MAX;
+    const RAY_EPSILON: Self = 1.0e-4;
+    const MIN_WEIGHT: Self = 1.0 / 512.0;
+
+    #[inline(always)]
+    fn from_f32(v: f32) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn from_i32(v: i32) -> Self {
+        v as f32
+    }
+    #[inline(always)]
+    fn to_f32(self) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // Both are correctly rounded (IEEE 754 requires it), so the bits are
+        // the same; only the intrinsic lets LLVM emit packed `sqrtps`.
+        #[cfg(feature = "std")]
+        {
+            f32::sqrt(self)
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            libm::sqrtf(self)
+        }
+    }
+    #[inline(always)]
+    fn powf(self, e: Self) -> Self {
+        // Our own branch-free x^e for the highlight's domain (src/num/unit_pow.rs):
+        // plain IEEE operations in a fixed order, the same bits on every
+        // target, and it vectorises where libm::powf stayed scalar.
+        crate::num::unit_pow::powf_unit(self, e)
+    }
+    #[inline(always)]
+    fn floor_to_i32(self) -> i32 {
+        // `as` saturates and maps NaN to 0.
+        libm::floorf(self) as i32
+    }
+    /// [`Scalar::to_unorm8`] without a call to `floorf`: after the clamp the
+    /// value `v·255 + ½` lies in `[½, 255½]`, where truncation equals the
+    /// floor. Same result, every input.
+    #[inline(always)]
+    fn to_unorm8(self) -> u8 {
+        let v = self.clamp01() * 255.0 + 0.5;
+        // Truncation in integer operations, which vectorise across a
+        // packet where a saturating float-to-int conversion (`as`) left a
+        // per-lane fix-up: v = 1.f·2^(E−127) with the biased exponent E in
+        // [126, 134], so its integer part is the 24-bit significand shifted
+        // right by 150 − E (16 to 24 places; `& 31` only keeps the shift in
+        // range for the compiler, it never changes it).
+        let bits = v.to_bits();
+        let significand = (bits & 0x007f_ffff) | 0x0080_0000;
+        let shift = 150u32.wrapping_sub(bits >> 23) & 31;
+        (significand >> shift).min(255) as u8
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        // Clearing the sign bit is what `f32::abs` does; core has it stably.
+        f32::abs(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sqrt_is_correctly_rounded_like_libm() {
+        let mut x = 1.0e-30f32;
+        while x < 1.0e30 {
+            assert_eq!(Scalar::sqrt(x).to_bits(), libm::sqrtf(x).to_bits(), "{x}");
+            x *= 1.37;
+        }
+    }
+
+    /// The integer truncation equals `floor(clamp(v)·255 + ½)` computed
+    /// with a float-to-int conversion: on every float of `[0, 1]` near the
+    /// 8-bit steps and their midpoints, and on seeded random bit patterns
+    /// (NaN, infinities, negatives, huge values included).
+    #[test]
+    fn unorm8_equals_the_float_conversion() {
+        fn reference(x: f32) -> u8 {
+            ((x.clamp01() * 255.0 + 0.5) as i32).clamp(0, 255) as u8
+        }
+        for k in 0..=510u32 {
+            let centre = k as f32 / 510.0;
+            let bits = centre.to_bits();
+            for d in 0..64u32 {
+                for b in [bits.wrapping_add(d), bits.wrapping_sub(d)] {
+                    let x = f32::from_bits(b);
+                    assert_eq!(x.to_unorm8(), reference(x), "{x:e}");
+                }
+            }
+        }
+        let mut state = 0x6e6f_726d_5f38u64;
+        for _ in 0..1_000_000 {
+            let x = f32::from_bits((crate::num::test_rng::splitmix64(&mut state) >> 32) as u32);
+            assert_eq!(x.to_unorm8(), reference(x), "{x:e}");
+        }
+        for x in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0, f32::MIN_POSITIVE, 0.5 / 255.0, 1.5 / 255.0] {
+            assert_eq!(x.to_unorm8(), reference(x), "{x:e}");
+        }
+    }
+
+    #[test]
+    fn unorm8_rounds_and_clamps() {
+        assert_eq!(0.0f32.to_unorm8(), 0);
+        assert_eq!(1.0f32.to_unorm8(), 255);
+        assert_eq!(2.0f32.to_unorm8(), 255);
+        assert_eq!((-1.0f32).to_unorm8(), 0);
+        assert_eq!(f32::NAN.to_unorm8(), 0);
+        assert_eq!(f32::INFINITY.to_unorm8(), 255);
+        assert_eq!((0.5f32).to_unorm8(), 128);
+        assert_eq!((1.0f32 / 255.0).to_unorm8(), 1);
+    }
+
+    #[test]
+    fn min_max_ignore_nan_in_first_operand() {
+        assert_eq!(Scalar::max(f32::NAN, 0.0), 0.0);
+        assert_eq!(Scalar::min(f32::NAN, 1.0), 1.0);
+    }
+}

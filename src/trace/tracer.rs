@@ -1,0 +1,555 @@
+//! The Whitted integrator and plain ray casting, iterative and bounded, for
+//! packets of any width.
+//!
+//! A packet's pending secondary rays (reflected, refracted) live on a
+//! fixed-capacity stack whose capacity `D` is the largest depth the tracer
+//! accepts: depth-first order leaves at most one pending sibling per level,
+//! so `D` entries always suffice. Lanes stay bound to their pixel all the way
+//! down; a lane that finishes (misses, runs out of depth or of weight) simply
+//! drops out of the packet's mask, and a packet with no lanes left is not
+//! traced.
+//!
+//! Determinism: every lane performs exactly the operations the width-1 tracer
+//! performs for it, in the same order (contributions are added in the same
+//! depth-first order, lights in scene order), so the result does not depend
+//! on the packet width.
+
+use crate::num::lanes::{Lanes, Mask};
+use crate::query::{Accelerator, BruteForce, Hit, PacketJob, SceneMismatch};
+use crate::geom::ray::RayPacket;
+use crate::num::scalar::Scalar;
+use crate::scene::{Material, Primitive, SceneView};
+use crate::geom::vec3::{Vec3, Vec3xW};
+use heapless::Vec as HVec;
+
+/// How rays are traced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Primary rays only: local shading at the first hit, no shadows, no
+    /// secondary rays.
+    Cast,
+    /// Whitted ray tracing: shadows, reflection and refraction.
+    Whitted,
+}
+
+/// Settings of the tracer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceSettings<S> {
+    /// Cast or Whitted.
+    pub mode: Mode,
+    /// Maximum number of ray segments in a path (primary = 1); a ray beyond it
+    /// contributes black.
+    pub max_depth: u32,
+    /// Secondary rays whose weight falls to this or below are not traced.
+    pub min_weight: S,
+}
+
+impl<S: Scalar> Default for TraceSettings<S> {
+    fn default() -> Self {
+        TraceSettings { mode: Mode::Whitted, max_depth: 5, min_weight: S::MIN_WEIGHT }
+    }
+}
+
+/// Numbers of rays traced, by kind (one per active lane), and of the
+/// packets that carried them.
+///
+/// The ray counts do not depend on the packet width ([`RayStats::rays`]);
+/// the packet counts do, and rays ÷ (packets × width) is how full the
+/// packets were ([`RayStats::lanes_per_packet`]): what regrouping the live
+/// lanes of several packets (compaction) could at best recover.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayStats {
+    /// Camera rays.
+    pub primary: u64,
+    /// Shadow rays (one per lit lane and light).
+    pub shadow: u64,
+    /// Mirror-reflected rays.
+    pub reflected: u64,
+    /// Refracted rays.
+    pub refracted: u64,
+    /// Packets of camera rays traced (each with at least one active lane).
+    pub primary_packets: u64,
+    /// Packets of shadow rays traced (one per packet, light and lit lane set).
+    pub shadow_packets: u64,
+    /// Packets of reflected rays traced.
+    pub reflected_packets: u64,
+    /// Packets of refracted rays traced.
+    pub refracted_packets: u64,
+}
+
+impl RayStats {
+    /// All rays (saturating: the counters never panic).
+    pub fn total(&self) -> u64 {
+        self.primary.saturating_add(self.shadow).saturating_add(self.reflected).saturating_add(self.refracted)
+    }
+    /// Rays by kind: primary, shadow, reflected, refracted. The same for
+    /// every packet width.
+    pub fn rays(&self) -> [u64; 4] {
+        [self.primary, self.shadow, self.reflected, self.refracted]
+    }
+    /// Packets by kind, in the order of [`RayStats::rays`].
+    pub fn packets(&self) -> [u64; 4] {
+        [self.primary_packets, self.shadow_packets, self.reflected_packets, self.refracted_packets]
+    }
+    /// Average active lanes per packet, by kind (order of
+    /// [`RayStats::rays`]); 0 for a kind with no packets. At most the
+    /// packet width.
+    pub fn lanes_per_packet(&self) -> [f64; 4] {
+        let (r, p) = (self.rays(), self.packets());
+        let mut out = [0.0; 4];
+        for i in 0..4 {
+            if p[i] > 0 {
+                out[i] = r[i] as f64 / p[i] as f64;
+            }
+        }
+        out
+    }
+    /// Counts one packet of `n` active rays into `rays` and `packets`
+    /// (saturating; a packet with no active lane is not a packet).
+    fn tally(rays: &mut u64, packets: &mut u64, n: u64) {
+        *rays = rays.saturating_add(n);
+        *packets = packets.saturating_add(u64::from(n > 0));
+    }
+    /// Counts a packet of `n` camera rays.
+    pub(crate) fn add_primary(&mut self, n: u64) {
+        Self::tally(&mut self.primary, &mut self.primary_packets, n);
+    }
+    /// Adds another tally to this one (saturating).
+    pub fn merge(&mut self, o: &RayStats) {
+        self.primary = self.primary.saturating_add(o.primary);
+        self.shadow = self.shadow.saturating_add(o.shadow);
+        self.reflected = self.reflected.saturating_add(o.reflected);
+        self.refracted = self.refracted.saturating_add(o.refracted);
+        self.primary_packets = self.primary_packets.saturating_add(o.primary_packets);
+        self.shadow_packets = self.shadow_packets.saturating_add(o.shadow_packets);
+        self.reflected_packets = self.reflected_packets.saturating_add(o.reflected_packets);
+        self.refracted_packets = self.refracted_packets.saturating_add(o.refracted_packets);
+    }
+}
+
+/// Why a tracer could not be made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TraceError {
+    /// The settings ask for a depth of 0, or more than the tracer's stack
+    /// holds.
+    Depth {
+        /// The depth asked for.
+        requested: u32,
+        /// The largest depth this tracer supports (its `D`).
+        supported: u32,
+    },
+    /// The accelerator was built for another scene.
+    Accelerator(SceneMismatch),
+}
+
+impl core::fmt::Display for TraceError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            TraceError::Depth { requested, supported } => {
+                write!(f, "depth {requested} not supported (1 to {supported})")
+            }
+            TraceError::Accelerator(m) => m.fmt(f),
+        }
+    }
+}
+
+impl core::error::Error for TraceError {}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RayKind {
+    Primary,
+    Reflected,
+    Refracted,
+}
+
+/// A packet waiting on the stack.
+#[derive(Clone, Copy)]
+struct Pending<S, const W: usize> {
+    ray: RayPacket<S, W>,
+    /// Weight of this ray's contribution to its pixel.
+    weight: Lanes<S, W>,
+    active: Mask<W>,
+    depth: u32,
+    kind: RayKind,
+}
+
+/// What shading needs at the hit point of each lane.
+pub struct SurfacePacket<S, const W: usize> {
+    /// Hit points.
+    pub point: Vec3xW<S, W>,
+    /// Geometric normal, unit, turned to face the incoming ray.
+    pub geometric: Vec3xW<S, W>,
+    /// Shading normal, unit, on the same side as `geometric`.
+    pub shading: Vec3xW<S, W>,
+    /// Lanes where the ray arrives on the outer side of the surface.
+    pub entering: Mask<W>,
+}
+
+/// A tracer over one scene, querying it through the accelerator `A`, with
+/// a bounded stack of `D` pending packets (so depths 1 to `D` are
+/// supported).
+#[derive(Clone, Copy, Debug)]
+pub struct Tracer<'a, S, A = BruteForce, const D: usize = 8> {
+    scene: SceneView<'a, S>,
+    accel: A,
+    settings: TraceSettings<S>,
+}
+
+impl<'a, S: Scalar, const D: usize> Tracer<'a, S, BruteForce, D> {
+    /// A tracer that tests every primitive ([`BruteForce`]); errors if
+    /// `settings.max_depth` is 0 or exceeds `D`.
+    pub fn new(scene: SceneView<'a, S>, settings: TraceSettings<S>) -> Result<Self, TraceError> {
+        Self::with_accelerator(scene, BruteForce, settings)
+    }
+}
+
+impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
+    /// A tracer querying `scene` through `accel` (for example a
+    /// [`BvhView`](crate::query::BvhView)); errors if `settings.max_depth`
+    /// is 0 or exceeds `D`, or if `accel` was built for another scene.
+    pub fn with_accelerator(scene: SceneView<'a, S>, accel: A, settings: TraceSettings<S>) -> Result<Self, TraceError> {
+        if settings.max_depth == 0 || settings.max_depth as usize > D {
+            return Err(TraceError::Depth { requested: settings.max_depth, supported: D as u32 });
+        }
+        accel.check(&scene).map_err(TraceError::Accelerator)?;
+        Ok(Tracer { scene, accel, settings })
+    }
+
+    /// The same tracer with its accelerator replaced by `f(accel)`, which
+    /// must answer every query exactly as the old one did (the dispatcher
+    /// wraps accelerators in copies compiled for other instruction sets).
+    pub fn map_accelerator<B: Accelerator<S>>(self, f: impl FnOnce(A) -> B) -> Tracer<'a, S, B, D> {
+        Tracer { scene: self.scene, accel: f(self.accel), settings: self.settings }
+    }
+
+    /// The scene traced.
+    pub fn scene(&self) -> &SceneView<'a, S> {
+        &self.scene
+    }
+    /// The accelerator queries go through.
+    pub fn accelerator(&self) -> &A {
+        &self.accel
+    }
+    /// The nearest hit of each active ray in `(t_min, t_max)` (see
+    /// [`Accelerator::closest_hit`]).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn closest_hit<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Hit<S, W> {
+        self.accel.closest_hit(&self.scene, ray, t_min, t_max, active)
+    }
+    /// The settings.
+    pub fn settings(&self) -> &TraceSettings<S> {
+        &self.settings
+    }
+
+    /// Surface data at the closest hits of `ray` (lanes outside `hit.mask`
+    /// hold zeros).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn surface<const W: usize>(&self, ray: &RayPacket<S, W>, hit: &Hit<S, W>) -> SurfacePacket<S, W> {
+        self.surface_and_materials(ray, hit).0
+    }
+
+    /// Surface data and materials at the closest hits, as packet code: one
+    /// pass per distinct primitive among the hit lanes (in a coherent
+    /// packet, one or two), each running that primitive's packet normal
+    /// kernel and splatting its material under the mask of the lanes that
+    /// share it. A lane goes through exactly the operations the one-ray
+    /// tracer performs for it, so the bits do not depend on the width.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn surface_and_materials<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        hit: &Hit<S, W>,
+    ) -> (SurfacePacket<S, W>, Materials<S, W>) {
+        let point = ray.at(hit.t);
+        let zero = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
+        let mut ng = zero;
+        let mut ns = zero;
+        let mut mat = Materials::empty();
+        let prims = self.scene.primitives();
+        let pool = self.scene.vertices();
+        let mut remaining = hit.mask;
+        while let Some(first) = remaining.first_set() {
+            // The lanes that hit the same primitive as the first remaining one.
+            let k = hit.prim.get(first).copied().unwrap_or(u32::MAX);
+            let same = remaining & Mask::from_eq_u32(&hit.prim, k);
+            remaining = remaining.and_not(same);
+            let Some(p) = prims.get(k as usize) else { continue };
+            // Unit geometric normal (zero where it has no length).
+            let (g, _) = p.shape.normals(&point).normalize();
+            ng = Vec3xW::select(same, g, ng);
+            // Shading normal: the geometric one, except on patches, whose
+            // interpolation runs per lane (rare, and branchy by nature).
+            let s = if p.shape.has_shading_normals() { self.patch_normals(p, pool, &point, &g, same) } else { g };
+            ns = Vec3xW::select(same, s, ns);
+            mat.splat(same, &self.scene.material_of(k));
+        }
+        // Turn both normals to face the ray (visibility is two-sided).
+        let cos = ray.dir.dot(ng);
+        let entering = cos.le(Lanes::zero());
+        let flip = !entering;
+        let surf = SurfacePacket {
+            point,
+            geometric: Vec3xW::select(flip, -ng, ng),
+            shading: Vec3xW::select(flip, -ns, ns),
+            entering,
+        };
+        (surf, mat)
+    }
+
+    /// Unit interpolated normals of patch `p` in the lanes `m` (falling back
+    /// to the unit geometric normal `g` where the interpolation has no
+    /// length).
+    #[inline(never)]
+    fn patch_normals<const W: usize>(
+        &self,
+        p: &Primitive<S>,
+        pool: &[Vec3<S>],
+        point: &Vec3xW<S, W>,
+        g: &Vec3xW<S, W>,
+        m: Mask<W>,
+    ) -> Vec3xW<S, W> {
+        let mut out = *g;
+        for l in 0..W {
+            if !m.get(l) {
+                continue;
+            }
+            let gl = g.lane(l);
+            let s = p.shape.shading_normal(pool, point.lane(l), gl).normalize_or_zero();
+            out.set_lane(l, if s == Vec3::ZERO { gl } else { s });
+        }
+        out
+    }
+
+    /// Traces a packet of rays (unit directions) and returns the linear
+    /// colour of each active lane (zero elsewhere). The work runs through
+    /// the accelerator ([`Accelerator::run`]), so a renderer has one
+    /// compiled copy of the tracer however many places call this.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn trace<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
+        self.accel.run(TraceJob { tracer: self, ray, active, stats })
+    }
+
+    /// [`Tracer::trace`]'s work.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn trace_here<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
+        let zero = Lanes::<S, W>::zero();
+        let mut color = Vec3::new(zero, zero, zero);
+        let mut stack: HVec<Pending<S, W>, D> = HVec::new();
+        let _ =
+            stack.push(Pending { ray: *ray, weight: Lanes::splat(S::ONE), active, depth: 1, kind: RayKind::Primary });
+        let whitted = self.settings.mode == Mode::Whitted;
+        let bg = self.scene.background();
+        while let Some(p) = stack.pop() {
+            let n = p.active.count() as u64;
+            match p.kind {
+                RayKind::Primary => stats.add_primary(n),
+                RayKind::Reflected => RayStats::tally(&mut stats.reflected, &mut stats.reflected_packets, n),
+                RayKind::Refracted => RayStats::tally(&mut stats.refracted, &mut stats.refracted_packets, n),
+            }
+            let hit = self.closest_hit(&p.ray, zero, Lanes::splat(S::MAX), p.active);
+            // Rays that hit nothing see the background.
+            let miss = p.active.and_not(hit.mask);
+            if miss.any() {
+                let w = Lanes::select(miss, p.weight, zero);
+                color = color + bg.splat::<W>().scale(w);
+            }
+            if hit.mask.none() {
+                continue;
+            }
+            let (surf, mat) = self.surface_and_materials(&p.ray, &hit);
+            let local = self.local(&p.ray, &hit, &surf, &mat, whitted, stats);
+            // Local light, weighted by (1 − Kt) in Whitted mode.
+            let w_local = if whitted { p.weight * (Lanes::splat(S::ONE) - mat.kt) } else { p.weight };
+            let w_local = Lanes::select(hit.mask, w_local, zero);
+            color = color + local.scale(w_local);
+
+            if !whitted || p.depth >= self.settings.max_depth {
+                continue;
+            }
+            self.spawn(&p, &hit, &surf, &mat, &mut stack);
+        }
+        color
+    }
+
+    /// Local shading (ambient, diffuse, Phong highlight) of the hit lanes,
+    /// with shadow rays in Whitted mode.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn local<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        hit: &Hit<S, W>,
+        surf: &SurfacePacket<S, W>,
+        mat: &Materials<S, W>,
+        shadows: bool,
+        stats: &mut RayStats,
+    ) -> Vec3xW<S, W> {
+        let zero = Lanes::<S, W>::zero();
+        let mut local = mat.color.scale(mat.ka);
+        let view = -ray.dir;
+        let eps = offset_scale(&surf.point);
+        let shadow_origin = surf.point + surf.geometric.scale(eps);
+        for light in self.scene.lights() {
+            // Direction and distance to the light.
+            let to_light = light.position.splat::<W>() - surf.point;
+            let (l_dir, ok) = to_light.normalize();
+            let dist = to_light.length_squared().sqrt();
+            let n_dot_l = surf.shading.dot(l_dir);
+            // Only lights on the lit side of both the geometric and the shading surface.
+            let lit = hit.mask & ok & n_dot_l.gt(zero) & surf.geometric.dot(l_dir).gt(zero);
+            if lit.none() {
+                continue;
+            }
+            let trans = if shadows {
+                RayStats::tally(&mut stats.shadow, &mut stats.shadow_packets, lit.count() as u64);
+                let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
+                self.accel.transmittance(&self.scene, &shadow, zero, dist, lit)
+            } else {
+                Lanes::select(lit, Lanes::splat(S::ONE), zero)
+            };
+            let lit = lit & trans.gt(zero);
+            if lit.none() {
+                continue;
+            }
+            // Phong: R = 2(N·L)N − L, highlight Ks·max(0, R·V)^shine.
+            let r = surf.shading.scale(n_dot_l * S::TWO) - l_dir;
+            let r_dot_v = r.dot(view);
+            // The highlight as lane code: the power of every lane at once
+            // (a branch-free `powf`), kept where it applies.
+            let highlight = lit & r_dot_v.gt(zero) & mat.ks.ne_lanes(zero);
+            let spec = if highlight.any() {
+                Lanes::select(highlight, mat.ks * r_dot_v.min(Lanes::splat(S::ONE)).powf(mat.shine), zero)
+            } else {
+                zero
+            };
+            let diffuse = mat.kd * n_dot_l;
+            let shade = mat.color.scale(diffuse);
+            let shade = Vec3::new(shade.x + spec, shade.y + spec, shade.z + spec);
+            let contrib = shade.mul_elem(light.color.splat::<W>()).scale(trans);
+            local = local + Vec3xW::select(lit, contrib, Vec3::new(zero, zero, zero));
+        }
+        Vec3xW::select(hit.mask, local, Vec3::new(zero, zero, zero))
+    }
+
+    /// Pushes the reflected and refracted packets of a hit packet.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn spawn<const W: usize>(
+        &self,
+        p: &Pending<S, W>,
+        hit: &Hit<S, W>,
+        surf: &SurfacePacket<S, W>,
+        mat: &Materials<S, W>,
+        stack: &mut HVec<Pending<S, W>, D>,
+    ) {
+        let zero = Lanes::<S, W>::zero();
+        let one = Lanes::<S, W>::splat(S::ONE);
+        let d = p.ray.dir;
+        let n = surf.shading;
+        // cos θi = −d·N (N faces the ray).
+        let cos_i = -(d.dot(n));
+        // Relative index η = n₁/n₂: entering goes from outside (1) into the material.
+        let ior = mat.ior;
+        let eta = Lanes::select(surf.entering, one.div_nonzero(ior), ior);
+        // k = 1 − η²(1 − cos²θi); negative means total internal reflection.
+        let k = one - eta * eta * (one - cos_i * cos_i);
+        let has_t = hit.mask & mat.kt.gt(zero);
+        let tir = has_t & k.lt(zero);
+        let w_refl = p.weight * mat.kr + Lanes::select(tir, p.weight * mat.kt, zero);
+        let w_refr = Lanes::select(has_t.and_not(tir), p.weight * mat.kt, zero);
+        let min_w = Lanes::splat(self.settings.min_weight);
+        let refl = hit.mask & w_refl.gt(min_w);
+        let refr = has_t.and_not(tir) & w_refr.gt(min_w);
+
+        let eps = offset_scale(&surf.point);
+        let off = surf.geometric.scale(eps);
+        // Refracted: T = η d + (η cos θi − √k) N, leaving from the far side.
+        if refr.any() {
+            let sq = Lanes::select(refr, k, zero).sqrt();
+            let t_dir = d.scale(eta) + n.scale(eta * cos_i - sq);
+            let (t_dir, ok) = t_dir.normalize();
+            let _ = stack.push(Pending {
+                ray: RayPacket { origin: surf.point - off, dir: t_dir },
+                weight: Lanes::select(refr, w_refr, zero),
+                active: refr & ok,
+                depth: p.depth.saturating_add(1),
+                kind: RayKind::Refracted,
+            });
+        }
+        // Reflected: R = d + 2 cos θi N, leaving from the near side.
+        if refl.any() {
+            let r_dir = d + n.scale(cos_i * S::TWO);
+            let (r_dir, ok) = r_dir.normalize();
+            let _ = stack.push(Pending {
+                ray: RayPacket { origin: surf.point + off, dir: r_dir },
+                weight: Lanes::select(refl, w_refl, zero),
+                active: refl & ok,
+                depth: p.depth.saturating_add(1),
+                kind: RayKind::Reflected,
+            });
+        }
+    }
+}
+
+/// One packet's trace, as a job an accelerator runs.
+struct TraceJob<'t, 'a, 'r, 's, S, A, const D: usize, const W: usize> {
+    tracer: &'t Tracer<'a, S, A, D>,
+    ray: &'r RayPacket<S, W>,
+    active: Mask<W>,
+    stats: &'s mut RayStats,
+}
+
+impl<S: Scalar, A: Accelerator<S>, const D: usize, const W: usize> PacketJob for TraceJob<'_, '_, '_, '_, S, A, D, W> {
+    type Output = Vec3xW<S, W>;
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn run(self) -> Vec3xW<S, W> {
+        self.tracer.trace_here(self.ray, self.active, self.stats)
+    }
+}
+
+/// Size of the offset that moves secondary-ray origins off a surface:
+/// `RAY_EPSILON · (1 + max|P|)`, so it scales with the coordinates' magnitude.
+#[inline(always)]
+fn offset_scale<S: Scalar, const W: usize>(p: &Vec3xW<S, W>) -> Lanes<S, W> {
+    let m = p.x.abs().max(p.y.abs()).max(p.z.abs());
+    (m + S::ONE) * S::RAY_EPSILON
+}
+
+/// Material parameters gathered per lane.
+struct Materials<S, const W: usize> {
+    color: Vec3xW<S, W>,
+    ka: Lanes<S, W>,
+    kd: Lanes<S, W>,
+    ks: Lanes<S, W>,
+    shine: Lanes<S, W>,
+    kr: Lanes<S, W>,
+    kt: Lanes<S, W>,
+    ior: Lanes<S, W>,
+}
+
+impl<S: Scalar, const W: usize> Materials<S, W> {
+    /// No material in any lane (the index of refraction 1, everything else 0).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn empty() -> Self {
+        let z = Lanes::zero();
+        Materials { color: Vec3::new(z, z, z), ka: z, kd: z, ks: z, shine: z, kr: z, kt: z, ior: Lanes::splat(S::ONE) }
+    }
+
+    /// Sets material `m` in the lanes `lanes`.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn splat(&mut self, lanes: Mask<W>, m: &Material<S>) {
+        let put = |v: S, old: Lanes<S, W>| Lanes::select(lanes, Lanes::splat(v), old);
+        self.color = Vec3xW::select(lanes, m.color.splat(), self.color);
+        self.ka = put(m.ka, self.ka);
+        self.kd = put(m.kd, self.kd);
+        self.ks = put(m.ks, self.ks);
+        self.shine = put(m.shine, self.shine);
+        self.kr = put(m.kr, self.kr);
+        self.kt = put(m.kt, self.kt);
+        self.ior = put(m.ior, self.ior);
+    }
+}
