@@ -13,6 +13,11 @@ rustup target add thumbv7em-none-eabihf >/dev/null
 say "module graph: no cycles (scripts/module-graph.py)"
 python3 scripts/module-graph.py --quiet
 
+say "formatting (cargo fmt --check) and lints (cargo clippy, -D warnings; allow list in Cargo.toml)"
+rustup component add rustfmt clippy >/dev/null
+cargo fmt --check
+cargo clippy --all-targets --all-features -q -- -D warnings
+
 say "cargo test (host, all features)"
 cargo test --all-features
 

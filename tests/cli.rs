@@ -132,7 +132,7 @@ fn bad_scene_is_one_line_with_the_line_number_and_no_file() {
         "{err}"
     );
     assert!(!out.exists());
-    assert_eq!(files_in(dir.path()), [bad.clone()], "temporary files left behind");
+    assert_eq!(files_in(dir.path()), std::slice::from_ref(&bad), "temporary files left behind");
 
     // An existing image is not touched by a failed render.
     std::fs::write(&out, b"old").unwrap();
@@ -531,7 +531,7 @@ fn default_output_is_the_scene_stem_and_never_overwrites_without_force() {
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("balls-1.png: already exists (use --force"), "{}", stderr(&o));
     assert_eq!(std::fs::read(&out).unwrap(), b"mine");
-    assert_eq!(files_in(dir.path()), [out.clone()]);
+    assert_eq!(files_in(dir.path()), std::slice::from_ref(&out));
     // --force replaces it; --format ppm changes the default extension.
     assert!(raypack_in(dir.path(), &[&["render", &scene("balls-1.nff"), "--force", "-q"][..], &size].concat(), b"")
         .status

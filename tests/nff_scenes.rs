@@ -76,7 +76,7 @@ fn gears_2_needs_more_than_a_small_scene_and_says_so() {
 #[test]
 fn mutated_scenes_never_panic_and_scan_agrees_with_parse() {
     with_big_stack(|| {
-        let mut rng = Rng(0x5eed_0f_4e44);
+        let mut rng = Rng(0x005e_ed0f_4e44);
         let odd = [
             "nan",
             "-inf",

@@ -62,7 +62,7 @@ impl Implicit<'_> {
             }
             Shape::AaBox(b) => {
                 let (lo, hi) = (d3(b.min()), d3(b.max()));
-                (0..3).map(|a| (p[a] - lo[a]).min(hi[a] - p[a])).fold(f64::INFINITY, f64::min) * -1.0
+                -(0..3).map(|a| (p[a] - lo[a]).min(hi[a] - p[a])).fold(f64::INFINITY, f64::min)
             }
             Shape::OrientedBox(b) => {
                 let l = obox_local(b, p);
@@ -75,8 +75,8 @@ impl Implicit<'_> {
                 a * x * x + b * y * y + c * z * z + d * x * y + e * x * z + f * y * z + g * x + h * y + i * z + j
             }
             Shape::Cone(cn) => {
-                let (rad, z, r) = cone_local(cn, p);
-                rad * rad - r * r * if z.is_nan() { 1.0 } else { 1.0 }
+                let (rad, _z, r) = cone_local(cn, p);
+                rad * rad - r * r
             }
         }
     }

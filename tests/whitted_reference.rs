@@ -192,7 +192,7 @@ impl Reference<'_> {
         let mut best: Option<(f64, usize)> = None;
         for (k, p) in self.view.primitives().iter().enumerate() {
             if let Some(&t) = self.crossings(&p.shape, o, d).first() {
-                if best.map_or(true, |(bt, _)| t < bt) {
+                if best.is_none_or(|(bt, _)| t < bt) {
                     best = Some((t, k));
                 }
             }

@@ -149,14 +149,14 @@ impl<const W: usize> Mask<W> {
 }
 
 macro_rules! mask_binop {
-    ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
+    ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt, $opa:tt) => {
         impl<const W: usize> $tr for Mask<W> {
             type Output = Self;
             #[inline(always)]
             fn $f(self, o: Self) -> Self {
                 let mut r = self.0;
                 for i in 0..W {
-                    r[i] = r[i] $op o.0[i];
+                    r[i] $opa o.0[i];
                 }
                 Mask(r)
             }
@@ -169,9 +169,9 @@ macro_rules! mask_binop {
         }
     };
 }
-mask_binop!(BitAnd, bitand, BitAndAssign, bitand_assign, &);
-mask_binop!(BitOr, bitor, BitOrAssign, bitor_assign, |);
-mask_binop!(BitXor, bitxor, BitXorAssign, bitxor_assign, ^);
+mask_binop!(BitAnd, bitand, BitAndAssign, bitand_assign, &, &=);
+mask_binop!(BitOr, bitor, BitOrAssign, bitor_assign, |, |=);
+mask_binop!(BitXor, bitxor, BitXorAssign, bitxor_assign, ^, ^=);
 
 impl<const W: usize> Not for Mask<W> {
     type Output = Self;

@@ -70,10 +70,10 @@
 
 use crate::geom::camera::{Camera, CameraError};
 use crate::geom::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Quadric, Shape, Sphere};
-use crate::num::scalar::Scalar;
-use crate::scene::{CapacityError, CapacityKind, Material, Scene, SceneError};
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
+use crate::num::scalar::Scalar;
+use crate::scene::{CapacityError, CapacityKind, Material, Scene, SceneError};
 
 /// A short copy of an offending piece of input (up to 24 bytes, cut at a
 /// character boundary), so errors can quote it without borrowing the text.
@@ -1085,12 +1085,8 @@ mod tests {
         fails("b 0.1 0.2 0.3.4\n", 1, "found `0.3.4`");
         fails(&format!("{F}p three\n"), 2, "expected a whole number, found `three`");
         fails(&format!("{F}p 3.0\n"), 2, "expected a whole number, found `3.0`");
-        fails(&format!("{CAMERA}").replace("resolution 32 24", "resolution 32 24.5"), 7, "whole number, found `24.5`");
-        fails(
-            &format!("{CAMERA}").replace("resolution 32 24", "resolution 0 24"),
-            7,
-            "resolution must be between 1 and 65535",
-        );
+        fails(&CAMERA.replace("resolution 32 24", "resolution 32 24.5"), 7, "whole number, found `24.5`");
+        fails(&CAMERA.replace("resolution 32 24", "resolution 0 24"), 7, "resolution must be between 1 and 65535");
     }
 
     #[test]
@@ -1328,7 +1324,7 @@ mod tests {
             (Shape::Quadric(a), Shape::Quadric(b)) => {
                 assert_eq!(
                     a.coefficients(),
-                    [4.0, 11.111111, 11.111111, 0.0, 0.0, 0.0, -9.6, -28.888889, -6.6666667, 24.537778]
+                    [4.0, 11.111111, 11.111111, 0.0, 0.0, 0.0, -9.6, -28.888_89, -6.6666667, 24.537778]
                 );
                 assert_eq!(a.clip_box(), None);
                 assert_eq!(b.coefficients(), [1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 2.0, -4.0, 0.0, 4.91]);

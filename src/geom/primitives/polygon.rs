@@ -13,11 +13,11 @@
 
 use super::error::GeometryError;
 use super::plane::{moved_offset, plane_crossing};
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::{RayPacket, Roots};
-use crate::num::scalar::Scalar;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// A planar polygon (or patch) whose vertices are in a vertex pool.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -214,7 +214,7 @@ impl<S: Scalar> Polygon<S> {
     /// one the polygon was built against).
     #[inline]
     pub fn vertices<'a>(&self, pool: &'a [Vec3<S>]) -> &'a [Vec3<S>] {
-        let end = (self.first as usize).checked_add(self.count as usize).unwrap_or(usize::MAX);
+        let end = (self.first as usize).saturating_add(self.count as usize);
         pool.get(self.first as usize..end).unwrap_or(&[])
     }
     /// The per-vertex normals of a patch (empty for a plain polygon).
@@ -223,8 +223,8 @@ impl<S: Scalar> Polygon<S> {
         if !self.patch {
             return &[];
         }
-        let start = (self.first as usize).checked_add(self.count as usize).unwrap_or(usize::MAX);
-        let end = start.checked_add(self.count as usize).unwrap_or(usize::MAX);
+        let start = (self.first as usize).saturating_add(self.count as usize);
+        let end = start.saturating_add(self.count as usize);
         pool.get(start..end).unwrap_or(&[])
     }
 
@@ -287,7 +287,7 @@ impl<S: Scalar> Polygon<S> {
                 let straddle = pv.lt(Lanes::splat(a.1)) ^ pv.lt(Lanes::splat(b.1));
                 let e = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
                 let right = if b.1 > a.1 { e.gt(Lanes::zero()) } else { e.lt(Lanes::zero()) };
-                odd = odd ^ (straddle & right);
+                odd ^= straddle & right;
                 a = b;
             }
             r.hit0 &= odd;

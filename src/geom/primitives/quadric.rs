@@ -2,11 +2,11 @@
 //! the named quadrics built on it, and an optional clip box.
 
 use super::error::GeometryError;
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::{RayPacket, Roots};
-use crate::num::scalar::Scalar;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// A quadric surface, optionally clipped to an axis-aligned box: only the part
 /// inside the box exists, and a ray passes through the clipped-away part to
@@ -114,8 +114,9 @@ impl<S: Scalar> Quadric<S> {
         Self::new(from_matrix(out))
     }
 
-    /// A frame whose local z is `axis` (normalized), around `center`.
-    fn frame(center: Vec3<S>, axis: Vec3<S>) -> Result<(Vec3<S>, Vec3<S>, Vec3<S>), GeometryError> {
+    /// A frame whose local z is `axis` (normalized), around `center`: the
+    /// local x, y and z axes.
+    fn frame(center: Vec3<S>, axis: Vec3<S>) -> Result<[Vec3<S>; 3], GeometryError> {
         if !center.is_finite() || !axis.is_finite() {
             return Err(GeometryError::NonFinite);
         }
@@ -124,7 +125,7 @@ impl<S: Scalar> Quadric<S> {
             return Err(GeometryError::ZeroLengthAxis);
         }
         let (u, v) = w.orthonormal_basis();
-        Ok((u, v, w))
+        Ok([u, v, w])
     }
 
     fn positive(values: &[S]) -> Result<(), GeometryError> {
@@ -167,7 +168,7 @@ impl<S: Scalar> Quadric<S> {
     /// along `axis`.
     pub fn cylinder(point: Vec3<S>, axis: Vec3<S>, radius: S) -> Result<Self, GeometryError> {
         Self::positive(&[radius])?;
-        let (u, v, w) = Self::frame(point, axis)?;
+        let [u, v, w] = Self::frame(point, axis)?;
         let z = S::ZERO;
         Self::from_local([S::ONE, S::ONE, z, z, z, z, z, z, z, -(radius * radius)], point, u, v, w)
     }
@@ -182,7 +183,7 @@ impl<S: Scalar> Quadric<S> {
             return Err(GeometryError::NonPositiveRadius);
         }
         let t = S::from_f32(libm::tanf(half_angle));
-        let (u, v, w) = Self::frame(apex, axis)?;
+        let [u, v, w] = Self::frame(apex, axis)?;
         let z = S::ZERO;
         Self::from_local([S::ONE, S::ONE, -(t * t), z, z, z, z, z, z, z], apex, u, v, w)
     }
@@ -191,7 +192,7 @@ impl<S: Scalar> Quadric<S> {
     /// focal length `focal`: `x² + y² = 4f·z` locally.
     pub fn paraboloid(vertex: Vec3<S>, axis: Vec3<S>, focal: S) -> Result<Self, GeometryError> {
         Self::positive(&[focal])?;
-        let (u, v, w) = Self::frame(vertex, axis)?;
+        let [u, v, w] = Self::frame(vertex, axis)?;
         let z = S::ZERO;
         let four = S::TWO + S::TWO;
         Self::from_local([S::ONE, S::ONE, z, z, z, z, z, z, -(four * focal), z], vertex, u, v, w)
@@ -201,7 +202,7 @@ impl<S: Scalar> Quadric<S> {
     /// locally (waist radius `a`).
     pub fn hyperboloid_one_sheet(center: Vec3<S>, axis: Vec3<S>, a: S, c: S) -> Result<Self, GeometryError> {
         Self::positive(&[a, c])?;
-        let (u, v, w) = Self::frame(center, axis)?;
+        let [u, v, w] = Self::frame(center, axis)?;
         let z = S::ZERO;
         let ia = S::ONE / (a * a);
         let ic = S::ONE / (c * c);
@@ -212,7 +213,7 @@ impl<S: Scalar> Quadric<S> {
     /// locally (vertices at `z = ±c`).
     pub fn hyperboloid_two_sheets(center: Vec3<S>, axis: Vec3<S>, a: S, c: S) -> Result<Self, GeometryError> {
         Self::positive(&[a, c])?;
-        let (u, v, w) = Self::frame(center, axis)?;
+        let [u, v, w] = Self::frame(center, axis)?;
         let z = S::ZERO;
         let ia = S::ONE / (a * a);
         let ic = S::ONE / (c * c);

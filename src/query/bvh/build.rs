@@ -5,9 +5,9 @@
 //! axis and then the lower bin; leaves list their primitives in index order.
 
 use super::node::{BvhNode, BvhStats, MAX_DEPTH};
+use crate::geom::vec3::Vec3;
 use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
-use crate::geom::vec3::Vec3;
 
 /// Most bins a build may use per axis.
 pub const MAX_BINS: usize = 32;
@@ -252,7 +252,7 @@ pub(super) fn build<S: Scalar>(
                         continue;
                     }
                     let cost = c_trav + c_isect * ((acc.half_area() * acc_n as f32 + right_cost[i]) / parent_area);
-                    if best.map_or(true, |(c, _, _)| cost < c) {
+                    if best.is_none_or(|(c, _, _)| cost < c) {
                         best = Some((cost, axis, i));
                     }
                 }
