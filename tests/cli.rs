@@ -381,6 +381,8 @@ fn bench_prints_one_line_per_measurement() {
             "best_s",
             "median_s",
             "mrays_per_s",
+            "mrays_min",
+            "mrays_max",
             "vs_packet1",
             "vs_1thread",
             "lanes_primary",
@@ -413,8 +415,13 @@ fn bench_prints_one_line_per_measurement() {
             }
             other => panic!("unknown measure {other}"),
         }
+        // The rate of the median time, with the slowest and fastest round's.
+        let close = |a: f64, b: f64| (a - b).abs() <= 0.001 + 1e-3 * a;
         let rate: f64 = f["mrays_per_s"].parse().unwrap();
-        assert!((rate - rays as f64 / best / 1e6).abs() <= 0.001 + 1e-3 * rate, "{f:?}");
+        let (lo, hi): (f64, f64) = (f["mrays_min"].parse().unwrap(), f["mrays_max"].parse().unwrap());
+        assert!(close(rate, rays as f64 / median / 1e6), "{f:?}");
+        assert!(close(hi, rays as f64 / best / 1e6), "{f:?}");
+        assert!(lo <= rate && rate <= hi, "{f:?}");
         if f["packet"] == "1" {
             assert_eq!(f["vs_packet1"], "1.00");
         }
@@ -458,6 +465,15 @@ fn bench_prints_one_line_per_measurement() {
     let o = raypack(&["bench", bad.to_str().unwrap(), "--rounds", "1"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("bad.nff: line 9, column 9"), "{}", stderr(&o));
+    // An error of the measurement itself (a scene without a camera loads,
+    // but cannot be rendered) names the file too.
+    let nocam = dir.path().join("nocam.nff");
+    std::fs::write(&nocam, "f 1 0 0 1 0 0 0 1\ns 0 0 0 1\n").unwrap();
+    let o = raypack(&["bench", nocam.to_str().unwrap(), "--rounds", "1"]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.starts_with("raypack: error: ") && err.contains("nocam.nff: "), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
     assert_eq!(raypack(&["bench", &scene("balls-1.nff"), "--packet", "3"]).status.code(), Some(2));
     assert_eq!(raypack(&["bench", &scene("balls-1.nff"), "--rounds", "0"]).status.code(), Some(2));
 }
@@ -842,4 +858,67 @@ fn summary_reports_the_packet_width_that_ran() {
     assert!(baseline.contains("packet 8, isa baseline"), "{baseline}");
     let auto = summary(&[]);
     assert!(auto.contains("packet 16, isa avx") || auto.contains("packet 8, isa baseline"), "{auto}");
+}
+
+#[test]
+fn a_closed_pipe_on_standard_output_ends_quietly() {
+    use std::io::Read;
+    // `raypack render … -o - | head -c 10`: 768 KB of PPM (or a PNG of
+    // some 100 KB), more than a pipe holds, so the writes meet the closed
+    // pipe. Exit 0 and nothing on stderr (with -q; without it, the summary
+    // only).
+    for (format, quiet) in [("ppm", true), ("png", true), ("ppm", false)] {
+        let mut args =
+            vec!["render", "-", "-o", "-", "--format", format, "--width", "512", "--height", "512", "-j", "1"];
+        if quiet {
+            args.push("-q");
+        }
+        let mut child = Command::new(env!("CARGO_BIN_EXE_raypack"))
+            .args(&args)
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("run raypack");
+        {
+            use std::io::Write;
+            let mut stdin = child.stdin.take().unwrap();
+            stdin.write_all(&std::fs::read(scene("balls-1.nff")).unwrap()).unwrap();
+        }
+        let mut stdout = child.stdout.take().unwrap();
+        let mut head = [0u8; 10];
+        stdout.read_exact(&mut head).unwrap();
+        drop(stdout);
+        let o = child.wait_with_output().unwrap();
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(0), "{format}: {err}");
+        assert!(!err.contains("Broken pipe") && !err.contains("error"), "{format}: {err}");
+        if quiet {
+            assert!(err.is_empty(), "{format}: {err}");
+        }
+        assert!(head.starts_with(if format == "ppm" { b"P6\n512 512" } else { b"\x89PNG" }));
+    }
+}
+
+#[test]
+fn a_scene_that_is_not_utf8_fails_with_a_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("latin1.nff");
+    // Line 3, after 6 characters (one of them a two-byte é): a Latin-1 byte.
+    std::fs::write(&bad, b"v\nfrom 0 0 5\n# caf\xc3\xa9 \xe9t\xe9\n").unwrap();
+    for cmd in ["render", "info", "bench"] {
+        let mut args = vec![cmd, bad.to_str().unwrap()];
+        if cmd == "render" {
+            args.extend(["-o", "-"]);
+        }
+        let o = raypack(&args);
+        assert_eq!(o.status.code(), Some(1), "{cmd}");
+        let err = stderr(&o);
+        assert!(err.contains("latin1.nff: line 3, column 8: not UTF-8 text (byte 0xe9)"), "{cmd}: {err}");
+        assert_eq!(err.lines().count(), 1, "{cmd}: {err}");
+    }
+    // From standard input, named so.
+    let o = raypack_in(dir.path(), &["render", "-", "-o", "-"], b"v\n\xff");
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("standard input: line 2, column 1: not UTF-8 text (byte 0xff)"), "{}", stderr(&o));
 }

@@ -20,12 +20,13 @@
 //! ```text
 //! # raypack-bench 1 version=0.1.0 cpu="…" cores=2 isas=baseline,avx2 rounds=5
 //! # scene=balls-2 primitives=92 lights=3 accel=bvh nodes=… depth=…
-//! bench scene=balls-2 size=512x512 scalar=f32 accel=bvh measure=primary isa=avx2 packet=8 threads=1 rays=262144 best_s=0.012345678 median_s=0.012800000 mrays_per_s=21.235 vs_packet1=4.97 vs_1thread=1.00
+//! bench scene=balls-2 size=512x512 scalar=f32 accel=bvh measure=primary isa=avx2 packet=8 threads=1 rays=262144 best_s=0.012345678 median_s=0.012800000 mrays_per_s=20.480 mrays_min=19.861 mrays_max=21.235 vs_packet1=4.97 vs_1thread=1.00
 //! ```
 //! `isa` is the instruction set the configuration really ran with: `f32`
 //! packets of 8 and 16 run the one asked for (`--isa`), narrower packets and fixed
 //! point the baseline (see `tiles.rs`).
-//! `mrays_per_s` is rays / best time / 10⁶; `vs_packet1` divides the best
+//! `mrays_per_s` is rays / median time / 10⁶, `mrays_min` and `mrays_max`
+//! the same over the slowest and the fastest round; `vs_packet1` divides the best
 //! time of packet width 1 (same threads) by this one's, `vs_1thread`
 //! the best time of 1 thread (same isa and packet) by this one's; each is
 //! printed only when that configuration was measured.
@@ -90,8 +91,11 @@ pub fn run(args: &BenchArgs) -> Result<(), Failure> {
     // One load: the tree is built if any configuration uses it (brute force
     // then simply ignores it).
     let load = if args.accel.contains(&AccelArg::Bvh) { AccelKind::Bvh } else { AccelKind::BruteForce };
+    // Every error names the file: the loader's and those of the
+    // measurements (a render the scene cannot make, determinism).
     image::with_scene(&text, args.scalar.kind(), load, |scene| bench_scene(args, scene))
         .map_err(|e| Failure(format!("{path}: {e}")))?
+        .map_err(|Failure(e)| Failure(format!("{path}: {e}")))
 }
 
 /// The CPU's model name (Linux), for the header.
@@ -122,6 +126,19 @@ fn median(v: &[f64]) -> f64 {
 
 fn best(v: &[f64]) -> f64 {
     v.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+fn worst(v: &[f64]) -> f64 {
+    v.iter().copied().fold(0.0, f64::max)
+}
+
+/// Millions of rays per second for `rays` in `secs` (0 for no time).
+fn mrays(rays: u64, secs: f64) -> f64 {
+    if secs > 0.0 {
+        rays as f64 / secs / 1e6
+    } else {
+        0.0
+    }
 }
 
 fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure> {
@@ -246,18 +263,17 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
     }
 
     for c in &configs {
-        let b = best(&c.times);
+        let (b, m, rays) = (best(&c.times), median(&c.times), c.stats.total());
         let mut line = format!(
-            "bench scene={name} size={width}x{height} scalar={scalar} accel={} measure={} isa={} packet={} threads={} rays={} best_s={:.9} median_s={:.9} mrays_per_s={:.3}",
+            "bench scene={name} size={width}x{height} scalar={scalar} accel={} measure={} isa={} packet={} threads={} rays={rays} best_s={b:.9} median_s={m:.9} mrays_per_s={:.3} mrays_min={:.3} mrays_max={:.3}",
             accel_name(c.accel),
             c.measure,
             c.isa,
             c.packet,
             c.threads,
-            c.stats.total(),
-            b,
-            median(&c.times),
-            if b > 0.0 { c.stats.total() as f64 / b / 1e6 } else { 0.0 }
+            mrays(rays, m),
+            mrays(rays, worst(&c.times)),
+            mrays(rays, b),
         );
         // How full the packets were (compaction could at best fill them).
         for (kind, lanes) in ["primary", "shadow", "reflected", "refracted"].iter().zip(c.stats.lanes_per_packet()) {

@@ -203,13 +203,31 @@ impl RenderArgs {
 /// Reads a scene file as text (`-`: standard input), with the path in the
 /// error.
 pub fn read_scene(path: &std::path::Path) -> Result<String, Failure> {
-    if path.as_os_str() == "-" {
-        let mut text = String::new();
-        std::io::Read::read_to_string(&mut std::io::stdin().lock(), &mut text)
-            .map_err(|e| Failure(format!("standard input: {e}")))?;
-        return Ok(text);
-    }
-    std::fs::read_to_string(path).map_err(|e| Failure(format!("{}: {e}", path.display())))
+    let name = scene_name(path);
+    let bytes = if path.as_os_str() == "-" {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes)
+            .map_err(|e| Failure(format!("{name}: {e}")))?;
+        bytes
+    } else {
+        std::fs::read(path).map_err(|e| Failure(format!("{name}: {e}")))?
+    };
+    String::from_utf8(bytes).map_err(|e| Failure(format!("{name}: {}", not_utf8(e.as_bytes(), e.utf8_error()))))
+}
+
+/// Where text stops being UTF-8, as the reader reports positions: `line N,
+/// column M: ...` (1-based; the column counts the characters before it on
+/// its line, as the NFF reader's do).
+fn not_utf8(bytes: &[u8], e: std::str::Utf8Error) -> String {
+    let good = &bytes[..e.valid_up_to()];
+    let line_start = good.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
+    // The prefix is valid UTF-8, so this counts characters.
+    let column = String::from_utf8_lossy(&good[line_start..]).chars().count() + 1;
+    let bad = &bytes[e.valid_up_to()..];
+    let shown: Vec<String> =
+        bad.iter().take(e.error_len().unwrap_or(bad.len()).min(4)).map(|b| format!("0x{b:02x}")).collect();
+    format!("line {line}, column {column}: not UTF-8 text (byte {}); NFF files are ASCII or UTF-8", shown.join(" "))
 }
 
 /// How a scene path is named in messages (`-` is standard input).

@@ -137,10 +137,15 @@ impl Sink {
         match self {
             Sink::File(p) => p.finish(width, height, pixels, region),
             Sink::Stdout(format) => {
-                let err = |e: &dyn std::fmt::Display| Failure(format!("standard output: {e}"));
                 let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-                encode(&mut w, format, width, height, pixels, region).map_err(|e| err(&e))?;
-                w.flush().map_err(|e| err(&e))
+                let done = encode(&mut w, format, width, height, pixels, region).and_then(|()| Ok(w.flush()?));
+                match done {
+                    // The reader went away (`raypack render … -o - | head`):
+                    // it wanted no more, so end quietly, as Unix tools do.
+                    Err(e) if is_broken_pipe(&*e) => Ok(()),
+                    Err(e) => Err(Failure(format!("standard output: {e}"))),
+                    Ok(()) => Ok(()),
+                }
             }
         }
     }
@@ -188,6 +193,23 @@ impl PendingImage {
         done.map_err(|e| Failure(format!("{}: {}", target.display(), e.error)))?;
         Ok(())
     }
+}
+
+/// Whether `e` (or what it wraps: the PNG encoder's I/O error) is a write
+/// to a pipe whose reader has closed it.
+fn is_broken_pipe(e: &(dyn std::error::Error + 'static)) -> bool {
+    let mut at = Some(e);
+    while let Some(e) = at {
+        let io = match e.downcast_ref::<png::EncodingError>() {
+            Some(png::EncodingError::IoError(io)) => Some(io),
+            _ => e.downcast_ref::<std::io::Error>(),
+        };
+        if io.is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe) {
+            return true;
+        }
+        at = e.source();
+    }
+    false
 }
 
 fn encode(

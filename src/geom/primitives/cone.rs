@@ -88,8 +88,18 @@ impl<S: Scalar> Cone<S> {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Roots<S, W> {
-        // Transform the ray into the cone's frame (orthonormal: t unchanged).
-        let rel = ray.origin.sub_splat(self.base);
+        // Solve from the point of the ray nearest the base, at t = shift,
+        // rather than from the origin: where the ray passes near the cone
+        // that point is within the cone's own size of it, so c and the
+        // discriminant below are formed from numbers of that size (from a
+        // far origin, c = x² + y² − r² and b² − a·c keep nothing of the
+        // radius, and a thin cone would be reported hit units away from
+        // it). The roots s are measured from that point; t = shift + s.
+        let from_base = ray.origin.sub_splat(self.base);
+        let shift = -from_base.dot(ray.dir);
+        // Transform that point and the direction into the cone's frame
+        // (orthonormal: distances along the ray unchanged).
+        let rel = from_base + ray.dir.scale(shift);
         let (ox, oy, oz) = (rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
         let (dx, dy, dz) = (ray.dir.dot_splat(self.u), ray.dir.dot_splat(self.v), ray.dir.dot_splat(self.w));
         // Surface: x² + y² = r(z)², r(z) = r_b + k·z. With x = o + t·d this is
@@ -114,18 +124,18 @@ impl<S: Scalar> Cone<S> {
         let r1 = c.div_nonzero(q);
         // Linear: 2b' t + c = 0.
         let rl = (-c).div_nonzero(b * S::TWO);
-        let t0 = Lanes::select(lin, rl, r0);
-        let t1 = r1;
+        let s0 = Lanes::select(lin, rl, r0);
+        let s1 = r1;
         // Keep roots whose axial coordinate lies on the finite piece [0, h]
         // (this also removes the mirror nappe of a true cone).
         // (Written out twice rather than as a closure, which LLVM may leave
         // un-inlined and so compiled for the baseline instruction set.)
-        let z0 = oz + dz * t0;
-        let z1 = oz + dz * t1;
+        let z0 = oz + dz * s0;
+        let z1 = oz + dz * s1;
         let h = Lanes::splat(self.height);
         let ok0 = (quad | lin) & z0.ge(Lanes::zero()) & z0.le(h);
         let ok1 = quad & q.ne_lanes(Lanes::zero()) & z1.ge(Lanes::zero()) & z1.le(h);
-        Roots::from_candidates(t0, ok0, t1, ok1, t_min, t_max)
+        Roots::from_candidates(shift + s0, ok0, shift + s1, ok1, t_min, t_max)
     }
 
     /// Outward normal (not normalized) at a point on the side.

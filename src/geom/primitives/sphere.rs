@@ -61,34 +61,31 @@ impl<S: Scalar> Sphere<S> {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Roots<S, W> {
-        // Vector from the centre to the ray origin.
+        // Vector from the centre to the ray origin; the point of the ray
+        // nearest the centre is at t = −b.
         let oc = ray.origin.sub_splat(self.center);
         let b = oc.dot(ray.dir);
-        // Compute the discriminant as r² − |oc − b·d|² (Haines et al., Ray
-        // Tracing Gems ch. 7): the squared distance of the centre from the
-        // line is formed from a short vector, so it does not suffer the
-        // cancellation of the textbook b² − c when the origin is far away.
+        // Solve from that nearest point rather than from the origin (Haines
+        // et al., Ray Tracing Gems ch. 7): `perp = oc − b·d` is the centre's
+        // offset from the line, a short vector when the ray passes near the
+        // sphere however far away its origin is, so the discriminant
+        // r² − |perp|² is formed from numbers of the sphere's own size and
+        // does not suffer the cancellation of the textbook b² − c (whose
+        // c = |oc|² − r² keeps nothing of r² for a far origin).
         let perp = oc - ray.dir.scale(b);
         let disc = Lanes::splat(self.radius2) - perp.dot(perp);
         let valid = active & disc.ge(Lanes::zero());
         if valid.none() {
             return Roots::none();
         }
-        let c = oc.dot(oc) - Lanes::splat(self.radius2);
+        // The crossings lie ±√Δ from the nearest point: t = −b ∓ √Δ, already
+        // ordered. Each is off by at most a rounding of |b| and of √Δ ≤ r, so
+        // a hit is never reported further than that from the sphere (what
+        // keeps brute force and the BVH's padded boxes in agreement).
         let sq = disc.sqrt();
-        // q = −(b + sign(b)·√Δ) avoids subtracting nearly equal numbers; the
-        // roots are then q and c/q (a = 1). Their sum is −2b, so q lies on
-        // the far side of −b from the other root: q is the smaller root when
-        // b >= 0 and the larger when b < 0. That orders them without a compare.
-        let b_pos = b.ge(Lanes::zero());
-        let q = Lanes::select(b_pos, -b - sq, sq - b);
-        // c/q guarded against q = 0 (tangent ray starting on the surface: the
-        // double root is 0, outside any interval with t_min >= 0).
-        let q_ok = q.ne_lanes(Lanes::zero());
-        let cq = c.div_nonzero(q);
-        let near = Lanes::select(b_pos, q, cq);
-        let far = Lanes::select(b_pos, cq, q);
-        Roots::from_ordered(near, far, valid & q_ok, t_min, t_max)
+        let near = -b - sq;
+        let far = sq - b;
+        Roots::from_ordered(near, far, valid, t_min, t_max)
     }
 
     /// Outward normal (not normalized) at a point on the surface.
