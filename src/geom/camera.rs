@@ -10,11 +10,11 @@
 //! Packets cover adjacent pixels: 1×1 for width 1, 2×2 for 4, 4×2 for 8,
 //! 4×4 for 16 (see [`packet_shape`]).
 
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::fixed_range::{self, RangeError, RangeItem};
 use crate::geom::ray::RayPacket;
-use crate::num::scalar::Scalar;
 use crate::geom::vec3::Vec3;
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// Why a camera could not be built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -178,6 +178,12 @@ impl<S: Scalar> Camera<S> {
     /// The orthonormal frame `(forward, right, up)`.
     pub fn frame(&self) -> (Vec3<S>, Vec3<S>, Vec3<S>) {
         (self.forward, self.right, self.up)
+    }
+    /// The screen scales `(tan(vfov/2)·W/H, tan(vfov/2))`: the pixel whose
+    /// centre is at `(u, v)` of `[0, 2]²` (see the module docs) looks along
+    /// `forward + (u − 1)·sx·right + (1 − v)·sy·up`.
+    pub fn screen_scale(&self) -> (S, S) {
+        (self.sx_scale, self.sy_scale)
     }
     /// The whole image as a rectangle.
     pub fn full_rect(&self) -> Rect {

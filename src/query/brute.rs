@@ -4,8 +4,9 @@
 //! no tree code in the image).
 
 use super::accelerator::{Accelerator, Hit};
-use crate::num::lanes::{Lanes, Mask};
+use super::cull::{Candidates, ALL};
 use crate::geom::ray::RayPacket;
+use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 
@@ -23,7 +24,22 @@ impl<S: Scalar> Accelerator<S> for BruteForce {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Hit<S, W> {
-        closest_hit(scene, ray, t_min, t_max, active)
+        closest_hit(scene, ray, t_min, t_max, active, ALL)
+    }
+
+    const CULLS: bool = true;
+
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn closest_hit_among<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+    ) -> Hit<S, W> {
+        closest_hit(scene, ray, t_min, t_max, active, candidates)
     }
 
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
@@ -39,7 +55,8 @@ impl<S: Scalar> Accelerator<S> for BruteForce {
     }
 }
 
-/// [`Accelerator::closest_hit`] by testing every primitive in index order.
+/// [`Accelerator::closest_hit`] by testing every candidate primitive
+/// (bit `k` of `candidates`; from 32 on, every primitive) in index order.
 #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
 pub(crate) fn closest_hit<S: Scalar, const W: usize>(
     scene: &SceneView<'_, S>,
@@ -47,6 +64,7 @@ pub(crate) fn closest_hit<S: Scalar, const W: usize>(
     t_min: Lanes<S, W>,
     t_max: Lanes<S, W>,
     active: Mask<W>,
+    candidates: Candidates,
 ) -> Hit<S, W> {
     let mut best_t = t_max;
     let mut best_id = [u32::MAX; W];
@@ -56,6 +74,11 @@ pub(crate) fn closest_hit<S: Scalar, const W: usize>(
         // (A `Range` index rather than `enumerate`, whose counter has an
         // overflow check in debug builds: the render path has no panic path.)
         for (k, p) in (0..prims.len()).zip(prims.iter()) {
+            // Culled: no active ray can cross it (`checked_shr`: from 32
+            // on, every primitive is a candidate).
+            if candidates.checked_shr(k as u32).is_some_and(|c| c & 1 == 0) {
+                continue;
+            }
             // Only roots strictly nearer than the best so far come back, so a
             // later primitive at the same distance never replaces an earlier one.
             let r = p.shape.roots(verts, ray, t_min, best_t, active);
@@ -113,8 +136,8 @@ pub(crate) fn transmittance<S: Scalar, const W: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Material, Scene};
     use crate::geom::vec3::Vec3;
+    use crate::scene::{Material, Scene};
 
     type Small = Scene<f32, 4, 8, 2, 1>;
 

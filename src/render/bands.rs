@@ -33,9 +33,9 @@
 //! ```
 
 use crate::geom::camera::{packet_shape, Rect};
+use crate::num::scalar::Scalar;
 use crate::query::Accelerator;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
-use crate::num::scalar::Scalar;
 use crate::trace::RayStats;
 
 /// The 32-bit FNV-1a hash (Fowler–Noll–Vo, variant 1a): for each byte,
@@ -319,11 +319,13 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         if rows == 0 {
             return Err(BandError::BufferTooSmall(BufferTooSmall { needed: full.w as usize, provided: band.len() }));
         }
+        // Screen culling worked out once for the frame, not per band.
+        let cull = self.screen_cull();
         let mut y = 0;
         while y < full.h {
             let h = rows.min(full.h - y);
             let rect = Rect { x: 0, y, w: full.w, h };
-            self.render_rect::<W>(rect, band, stats).map_err(BandError::BufferTooSmall)?;
+            self.render_rect_culled::<W>(rect, band, cull.as_ref(), stats).map_err(BandError::BufferTooSmall)?;
             let n = full.w as usize * h as usize;
             // `rows` rows fit in `band`, so this is all of the band's pixels.
             let pixels = band.get(..n).unwrap_or(&[]);

@@ -24,8 +24,9 @@
 
 use crate::geom::camera::{packet_shape, Camera, Rect};
 use crate::num::lanes::{Lanes, Mask};
-use crate::query::{Accelerator, BruteForce};
 use crate::num::scalar::Scalar;
+use crate::query::cull::{Candidates, ALL};
+use crate::query::{Accelerator, BruteForce, ScreenCull};
 use crate::trace::{RayStats, Tracer};
 
 /// One 8-bit RGB pixel.
@@ -163,6 +164,24 @@ const BLOCK: u32 = 32;
 #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
 const BLOCK: u32 = u32::MAX;
 
+/// A frame's screen culling and the primitives the rows being rendered can
+/// see.
+struct Culling<'c> {
+    cull: Option<&'c ScreenCull>,
+    band: Candidates,
+}
+
+impl Culling<'_> {
+    /// The candidates of the width-`W` packet whose top-left pixel is
+    /// `(x, y)` (every primitive without culling).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn at<const W: usize>(&self, x: u32, y: u32) -> Candidates {
+        let Some(c) = self.cull else { return ALL };
+        let (pw, ph) = const { packet_shape(W) };
+        c.candidates(self.band, x, x.saturating_add(pw - 1), y, y.saturating_add(ph - 1))
+    }
+}
+
 /// Writes the pixels `px` of the lanes `active` of the packet at `(x0, y0)`
 /// into `out`, row-major with the origin and stride of `frame`.
 #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
@@ -225,6 +244,35 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
+        let cull = self.screen_cull();
+        self.render_rect_culled::<W>(rect, out, cull.as_ref(), stats)
+    }
+
+    /// The frame's screen culling ([`crate::query::cull`]) if the
+    /// accelerator takes candidates and the scene fits its table; `None`
+    /// (every primitive tested) otherwise.
+    pub(crate) fn screen_cull(&self) -> Option<ScreenCull> {
+        if !A::CULLS {
+            return None;
+        }
+        ScreenCull::new(self.tracer.scene(), &self.camera).ok()
+    }
+
+    /// [`Renderer::render_rect`] with the frame's culling worked out
+    /// ([`Renderer::screen_cull`]; the band loop works it out once per
+    /// frame).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub(crate) fn render_rect_culled<const W: usize>(
+        &self,
+        rect: Rect,
+        out: &mut [Rgb8],
+        cull: Option<&ScreenCull>,
+        stats: &mut RayStats,
+    ) -> Result<(), BufferTooSmall> {
+        // The primitives the rows of `rect` (and the ring of neighbours an
+        // adaptive render traces around it) can see.
+        let band = cull.map_or(ALL, |c| c.rows(rect.y.saturating_sub(1), rect.y.saturating_add(rect.h)));
+        let cull = Culling { cull, band };
         // Saturating (a 32-bit usize can overflow): an impossible size is
         // simply larger than any buffer.
         let needed = (rect.w as usize).saturating_mul(rect.h as usize);
@@ -246,7 +294,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 )]
                 |x, y| {
                     let (ray, active) = self.camera.packet::<W>(x, y, rect);
-                    (self.shade_packet(&ray, active, stats), active)
+                    (self.shade_packet(&ray, active, cull.at::<W>(x, y), stats), active)
                 },
             ),
             Sampling::Grid(_) => {
@@ -261,13 +309,13 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     )]
                     |x, y| {
                         let all = Mask::splat(true);
-                        let (c, active) = self.supersample::<W>(x, y, rect, n, all, stats);
+                        let (c, active) = self.supersample::<W>(x, y, rect, n, all, cull.at::<W>(x, y), stats);
                         (c, active)
                     },
                 )
             }
             Sampling::Adaptive { threshold, .. } => {
-                self.adaptive_rect::<W>(rect, out, sampling.grid(), threshold, stats)
+                self.adaptive_rect::<W>(rect, out, sampling.grid(), threshold, &cull, stats)
             }
         }
         Ok(())
@@ -320,6 +368,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         clip: Rect,
         n: u32,
         want: Mask<W>,
+        candidates: Candidates,
         stats: &mut RayStats,
     ) -> ([Rgb8; W], Mask<W>) {
         let weight = Lanes::splat(S::ONE / S::from_i32((n * n) as i32));
@@ -337,7 +386,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 if active.none() {
                     continue;
                 }
-                let c = self.tracer.trace(&ray, active, stats);
+                let c = self.tracer.trace_among(&ray, active, candidates, stats);
                 r = r + Lanes::select(active, c.x * weight, zero);
                 g = g + Lanes::select(active, c.y * weight, zero);
                 b = b + Lanes::select(active, c.z * weight, zero);
@@ -361,6 +410,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         out: &mut [Rgb8],
         n: u32,
         threshold: u16,
+        cull: &Culling<'_>,
         stats: &mut RayStats,
     ) {
         const SIDE: usize = ADAPTIVE_BLOCK as usize + 2;
@@ -394,7 +444,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     )]
                     |x, y| {
                         let (ray, active) = self.camera.packet::<W>(x, y, ring);
-                        (self.shade_packet(&ray, active, stats), active)
+                        (self.shade_packet(&ray, active, cull.at::<W>(x, y), stats), active)
                     },
                 );
                 let at = |x: u32, y: u32| {
@@ -432,7 +482,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                             marked.set(l, left || right || up || down);
                         }
                         if marked.any() {
-                            let (fine, traced) = self.supersample::<W>(x, y, block, n, marked, stats);
+                            let (fine, traced) =
+                                self.supersample::<W>(x, y, block, n, marked, cull.at::<W>(x, y), stats);
                             for (l, p) in px.iter_mut().enumerate() {
                                 if traced.get(l) {
                                     *p = fine[l];
@@ -454,12 +505,13 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         &self,
         ray: &crate::geom::ray::RayPacket<S, W>,
         active: Mask<W>,
+        candidates: Candidates,
         stats: &mut RayStats,
     ) -> [Rgb8; W] {
         let mut px = [[0u8; 3]; W];
         match self.aov {
             Aov::Color => {
-                let c = self.tracer.trace(ray, active, stats);
+                let c = self.tracer.trace_among(ray, active, candidates, stats);
                 // Quantization as lane code, one channel at a time.
                 let (r, g, b) = (c.x.to_unorm8(), c.y.to_unorm8(), c.z.to_unorm8());
                 for (l, p) in px.iter_mut().enumerate() {
@@ -468,7 +520,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
             }
             aov => {
                 stats.add_primary(active.count() as u64);
-                let hit = self.tracer.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
+                let hit = self.tracer.closest_hit_among(ray, Lanes::zero(), Lanes::splat(S::MAX), active, candidates);
                 // Each encoding as lane code over the whole packet; lanes
                 // outside `active` are not written out by the caller.
                 let mut code = [0u32; W];

@@ -14,12 +14,13 @@
 //! depth-first order, lights in scene order), so the result does not depend
 //! on the packet width.
 
-use crate::num::lanes::{Lanes, Mask};
-use crate::query::{Accelerator, BruteForce, Hit, PacketJob, SceneMismatch};
 use crate::geom::ray::RayPacket;
-use crate::num::scalar::Scalar;
-use crate::scene::{Material, Primitive, SceneView};
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
+use crate::query::cull::{Candidates, ALL};
+use crate::query::{Accelerator, BruteForce, Hit, PacketJob, SceneMismatch};
+use crate::scene::{Material, Primitive, SceneView};
 use heapless::Vec as HVec;
 
 /// How rays are traced.
@@ -242,6 +243,19 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     ) -> Hit<S, W> {
         self.accel.closest_hit(&self.scene, ray, t_min, t_max, active)
     }
+    /// [`Tracer::closest_hit`] for rays that can hit only `candidates` (see
+    /// [`Accelerator::closest_hit_among`]).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn closest_hit_among<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+    ) -> Hit<S, W> {
+        self.accel.closest_hit_among(&self.scene, ray, t_min, t_max, active, candidates)
+    }
     /// The settings.
     pub fn settings(&self) -> &TraceSettings<S> {
         &self.settings
@@ -332,12 +346,33 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// compiled copy of the tracer however many places call this.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn trace<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
-        self.accel.run(TraceJob { tracer: self, ray, active, stats })
+        self.trace_among(ray, active, ALL, stats)
     }
 
-    /// [`Tracer::trace`]'s work.
+    /// [`Tracer::trace`] for camera rays that can hit only the primitives
+    /// in `candidates` (see [`Accelerator::closest_hit_among`]; the
+    /// renderer's screen culling, [`crate::query::cull`]): the same bits,
+    /// fewer tests. Secondary and shadow rays test every primitive.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    fn trace_here<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
+    pub fn trace_among<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+        stats: &mut RayStats,
+    ) -> Vec3xW<S, W> {
+        self.accel.run(TraceJob { tracer: self, ray, active, candidates, stats })
+    }
+
+    /// [`Tracer::trace_among`]'s work.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn trace_here<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+        stats: &mut RayStats,
+    ) -> Vec3xW<S, W> {
         let zero = Lanes::<S, W>::zero();
         let mut color = Vec3::new(zero, zero, zero);
         let mut stack: HVec<Pending<S, W>, D> = HVec::new();
@@ -352,7 +387,10 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 RayKind::Reflected => RayStats::tally(&mut stats.reflected, &mut stats.reflected_packets, n),
                 RayKind::Refracted => RayStats::tally(&mut stats.refracted, &mut stats.refracted_packets, n),
             }
-            let hit = self.closest_hit(&p.ray, zero, Lanes::splat(S::MAX), p.active);
+            // Camera rays test only their candidates; every other ray
+            // tests everything.
+            let among = if p.kind == RayKind::Primary { candidates } else { ALL };
+            let hit = self.accel.closest_hit_among(&self.scene, &p.ray, zero, Lanes::splat(S::MAX), p.active, among);
             // Rays that hit nothing see the background.
             let miss = p.active.and_not(hit.mask);
             if miss.any() {
@@ -500,6 +538,7 @@ struct TraceJob<'t, 'a, 'r, 's, S, A, const D: usize, const W: usize> {
     tracer: &'t Tracer<'a, S, A, D>,
     ray: &'r RayPacket<S, W>,
     active: Mask<W>,
+    candidates: Candidates,
     stats: &'s mut RayStats,
 }
 
@@ -507,7 +546,7 @@ impl<S: Scalar, A: Accelerator<S>, const D: usize, const W: usize> PacketJob for
     type Output = Vec3xW<S, W>;
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn run(self) -> Vec3xW<S, W> {
-        self.tracer.trace_here(self.ray, self.active, self.stats)
+        self.tracer.trace_here(self.ray, self.active, self.candidates, self.stats)
     }
 }
 
