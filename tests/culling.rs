@@ -3,8 +3,10 @@
 //! for `BruteForce`) and without (the same brute force behind an
 //! accelerator that takes no candidates), compared byte for byte, for
 //! `f32`, `Fixed32` and `Fixed`, packet widths 1, 4, 8 and 16, the colour
-//! (Whitted and cast) and ID AOVs, supersampling, and cameras inside
-//! objects, beside grazing spheres, and at tiny and huge scales.
+//! (Whitted and cast) and ID AOVs, supersampling, cameras inside objects,
+//! beside grazing spheres, lights inside and beside primitives, and tiny
+//! and huge scales. Culled renders cull camera rays (`ScreenCull`) and, in
+//! Whitted colour renders, shadow rays (`ShadowCull`).
 
 mod common;
 use common::*;
@@ -129,6 +131,18 @@ fn random_cases<S: Scalar>(seed: u64, cases: u32, scale: f32, name: &str) {
                 let t = rng.range(2.0, 12.0);
                 let (c, r) = grazing_sphere(&cam_f, rng.below(w), rng.below(h), t, r, &mut rng);
                 let _ = scene.add_sphere(c, r, m);
+            }
+        }
+        if kind == 3 {
+            // A light inside or just outside a primitive's bounds: shadow
+            // rays start beside or graze the occluders around it.
+            let view = scene.view();
+            let near =
+                view.primitives().get(rng.below(n as u32) as usize).and_then(|p| p.shape.bounds(view.vertices()));
+            if let Some((lo, hi)) = near {
+                let c = (lo + hi).scale(0.5);
+                let out = if rng.below(2) == 0 { Vec3::ZERO } else { (hi - lo).scale(0.5 + rng.range(0.0, 0.05)) };
+                let _ = scene.add_light(c + out, Vec3::new(0.6, 0.6, 0.6));
             }
         }
         let Some(cam) = camera::<S>(eye.scale(scale), at.scale(scale), fov, w, h) else { continue };

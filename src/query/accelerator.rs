@@ -96,6 +96,25 @@ pub trait Accelerator<S: Scalar>: Copy + core::fmt::Debug {
         self.closest_hit(scene, ray, t_min, t_max, active)
     }
 
+    /// [`Accelerator::transmittance`] for shadow rays that can reach only
+    /// the primitives in `candidates` (as for
+    /// [`Accelerator::closest_hit_among`]; see
+    /// [`crate::query::cull::ShadowCull`]): the same bits. The default
+    /// ignores `candidates`.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn transmittance_among<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+    ) -> Lanes<S, W> {
+        let _ = candidates;
+        self.transmittance(scene, ray, t_min, t_max, active)
+    }
+
     /// Runs `job` (the tracer runs each packet's whole trace through this).
     /// The default runs it in place; an accelerator compiled for another
     /// instruction set runs it compiled for that set too.

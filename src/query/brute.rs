@@ -51,7 +51,20 @@ impl<S: Scalar> Accelerator<S> for BruteForce {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Lanes<S, W> {
-        transmittance(scene, ray, t_min, t_max, active)
+        transmittance_among(scene, ray, t_min, t_max, active, ALL)
+    }
+
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn transmittance_among<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+    ) -> Lanes<S, W> {
+        transmittance_among(scene, ray, t_min, t_max, active, candidates)
     }
 }
 
@@ -108,12 +121,31 @@ pub(crate) fn transmittance<S: Scalar, const W: usize>(
     t_max: Lanes<S, W>,
     active: Mask<W>,
 ) -> Lanes<S, W> {
+    transmittance_among(scene, ray, t_min, t_max, active, ALL)
+}
+
+/// [`Accelerator::transmittance`] by testing every candidate primitive
+/// (as for [`closest_hit`]) in index order.
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+pub(crate) fn transmittance_among<S: Scalar, const W: usize>(
+    scene: &SceneView<'_, S>,
+    ray: &RayPacket<S, W>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    active: Mask<W>,
+    candidates: Candidates,
+) -> Lanes<S, W> {
     let mut trans = Lanes::select(active, Lanes::splat(S::ONE), Lanes::zero());
     let mut live = active;
     let verts = scene.vertices();
-    for p in scene.primitives().iter() {
+    let prims = scene.primitives();
+    for (k, p) in (0..prims.len()).zip(prims.iter()) {
         if live.none() {
             break;
+        }
+        // Culled: no active ray can reach it.
+        if candidates.checked_shr(k as u32).is_some_and(|c| c & 1 == 0) {
+            continue;
         }
         let r = p.shape.roots(verts, ray, t_min, t_max, live);
         if r.hit0.none() {

@@ -44,6 +44,8 @@
 //! compare every byte.
 
 use crate::geom::camera::Camera;
+use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 
@@ -291,4 +293,140 @@ fn span(c0: f32, c1: f32, last: u16) -> Option<(u16, u16)> {
         return None;
     }
     Some((i0.max(0) as u16, i1.min(last as i64) as u16))
+}
+
+/// Most lights a [`ShadowCull`] holds (the shadow rays of further lights
+/// test every primitive).
+pub const SHADOW_LIGHTS: usize = 4;
+
+/// One primitive as seen from one light: shadow rays whose direction `d`
+/// (towards the light) has `d·axis > limit` cannot reach it.
+#[derive(Clone, Copy, Debug)]
+struct Occluder<S> {
+    axis: Vec3<S>,
+    limit: S,
+    /// Always a candidate (unbounded, or around the light).
+    always: bool,
+}
+
+/// Per light and primitive, the shadow-ray directions that can reach the
+/// primitive, for the shadow rays the tracer casts (see below); with it
+/// the tracer tests a shadow packet only against the primitives some of
+/// its rays can reach.
+///
+/// A shadow ray leaves `O = P + off` (the hit point `P` moved off the
+/// surface by `|off| <= eps`, [`Scalar::RAY_EPSILON`]`·(1 + max|P|)`) along
+/// `d = normalize(L − P)`, for `t` in `(0, |L − P|)`. Any of its points is
+/// `X = L − s·d + E` with `s > 0` and `|E| <= eps` plus rounding: it lies
+/// within `e` of the ray from the light along `−d`. So a primitive whose
+/// bounds, grown by `e` and the margin `m` of [`ScreenCull`], lie in the
+/// cone around `axis` (the direction from the light to the centre of the
+/// bounds' sphere, radius `R`, distance `D`) of half-angle
+/// `asin((R + e + m)/D)`, can be reached only by rays with
+/// `−d·axis >= cos` of that angle (less `2⁻¹²` for the rounding of `d` and
+/// of the dot product). A primitive with no bounds, or whose grown sphere
+/// holds the light, is always a candidate. `e` is fixed per frame for hit
+/// points within twice the scene's extent (`eps <= e_lim`); lanes further
+/// out (a far point of a plane) test every primitive.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowCull<S> {
+    occluders: [[Occluder<S>; CULL_CAPACITY]; SHADOW_LIGHTS],
+    lights: usize,
+    len: usize,
+    /// Largest offset scale of a hit point whose shadow rays may be culled.
+    eps_limit: S,
+}
+
+impl<S: Scalar> ShadowCull<S> {
+    /// The cones of `scene`'s primitives from its lights; an error if the
+    /// scene has more than [`CULL_CAPACITY`] primitives.
+    pub fn new(scene: &SceneView<'_, S>) -> Result<Self, CullError> {
+        let prims = scene.primitives();
+        if prims.len() > CULL_CAPACITY {
+            return Err(CullError::Capacity { primitives: prims.len() });
+        }
+        let none = Occluder { axis: Vec3::ZERO, limit: S::ZERO, always: true };
+        let mut occluders = [[none; CULL_CAPACITY]; SHADOW_LIGHTS];
+        let pool = scene.vertices();
+        // The scene's extent: lights and bounded primitives.
+        let mut extent = 0.0f32;
+        for l in scene.lights() {
+            extent = extent.max(max_abs(l.position.to_f32()));
+        }
+        for p in prims {
+            if let Some((lo, hi)) = p.shape.bounds(pool) {
+                extent = extent.max(max_abs(lo.to_f32())).max(max_abs(hi.to_f32()));
+            }
+        }
+        let rho = resolution::<S>();
+        let eps = S::RAY_EPSILON.to_f32();
+        // Hit points with max|P| <= 2·extent: eps <= e_lim.
+        let e_lim = eps * (1.0 + 2.0 * extent);
+        // Distances within reach: light to hit point.
+        let s = 1.0 + 4.0 * extent;
+        let m = 4.0 * eps * s + 8.0 * libm::sqrtf(rho * s);
+        let grow = 1.01 * e_lim + m;
+        if !grow.is_finite() {
+            return Err(CullError::Capacity { primitives: prims.len() });
+        }
+        let lights = scene.lights().len().min(SHADOW_LIGHTS);
+        for (row, l) in occluders.iter_mut().zip(scene.lights()) {
+            let lp = l.position.to_f32();
+            for (slot, p) in row.iter_mut().zip(prims) {
+                *slot = match p.shape.bounds(pool) {
+                    None => none,
+                    Some((lo, hi)) => cone(lp, lo.to_f32(), hi.to_f32(), grow).unwrap_or(none),
+                };
+            }
+        }
+        Ok(ShadowCull { occluders, lights, len: prims.len(), eps_limit: S::from_f32(e_lim) })
+    }
+
+    /// The primitives the shadow rays towards light `light` with unit
+    /// directions `dir`, leaving hit points of offset scale `eps`, in the
+    /// lanes `lit`, can reach.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn candidates<const W: usize>(
+        &self,
+        light: usize,
+        dir: &Vec3xW<S, W>,
+        eps: Lanes<S, W>,
+        lit: Mask<W>,
+    ) -> Candidates {
+        let Some(row) = self.occluders.get(light).filter(|_| light < self.lights) else { return ALL };
+        // A hit point too far out for the frame's margin: everything.
+        if lit.and_not(eps.le(Lanes::splat(self.eps_limit))).any() {
+            return ALL;
+        }
+        let mut m = !low_bits(self.len);
+        for (k, o) in row.iter().take(self.len).enumerate() {
+            if o.always || (lit & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any() {
+                m |= 1 << k;
+            }
+        }
+        m
+    }
+}
+
+/// The cone of directions from the light `l` reaching the box
+/// `[lo, hi]` grown by `grow` (see [`ShadowCull`]), as an occluder entry;
+/// `None` if it must always be tested.
+fn cone<S: Scalar>(l: [f32; 3], lo: [f32; 3], hi: [f32; 3], grow: f32) -> Option<Occluder<S>> {
+    let c = [(lo[0] + hi[0]) * 0.5, (lo[1] + hi[1]) * 0.5, (lo[2] + hi[2]) * 0.5];
+    let h = [hi[0] - c[0], hi[1] - c[1], hi[2] - c[2]];
+    // Sphere around the box (grown by one part in 10⁴ for the rounding of
+    // this arithmetic) plus the margins.
+    let r = libm::sqrtf(dot(h, h)) * 1.0001 + grow;
+    let v = [c[0] - l[0], c[1] - l[1], c[2] - l[2]];
+    let dist = libm::sqrtf(dot(v, v));
+    if !(dist > r * 1.001) || !r.is_finite() || !dist.is_finite() {
+        return None;
+    }
+    let sin = r / dist;
+    let cos = libm::sqrtf(1.0 - sin * sin);
+    // `−d·axis >= cos − slack` ⇔ `d·axis <= slack − cos`; the axis points
+    // from the light to the centre.
+    let axis = [v[0] / dist, v[1] / dist, v[2] / dist];
+    let limit = 1.0 / 4096.0 - cos;
+    Some(Occluder { axis: Vec3::from_f32(axis[0], axis[1], axis[2]), limit: S::from_f32(limit), always: false })
 }

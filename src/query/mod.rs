@@ -36,4 +36,4 @@ pub use accel_choice::AccelChoice;
 pub use accelerator::{Accelerator, Hit, PacketJob, SceneMismatch};
 pub use brute::BruteForce;
 pub use bvh::{BuildSettings, Bvh, BvhError, BvhStats, BvhView};
-pub use cull::{Candidates, CullError, ScreenCull};
+pub use cull::{Candidates, CullError, ScreenCull, ShadowCull};

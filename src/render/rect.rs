@@ -26,8 +26,8 @@ use crate::geom::camera::{packet_shape, Camera, Rect};
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
 use crate::query::cull::{Candidates, ALL};
-use crate::query::{Accelerator, BruteForce, ScreenCull};
-use crate::trace::{RayStats, Tracer};
+use crate::query::{Accelerator, BruteForce, ScreenCull, ShadowCull};
+use crate::trace::{Mode, RayStats, Tracer};
 
 /// One 8-bit RGB pixel.
 pub type Rgb8 = [u8; 3];
@@ -164,14 +164,21 @@ const BLOCK: u32 = 32;
 #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
 const BLOCK: u32 = u32::MAX;
 
-/// A frame's screen culling and the primitives the rows being rendered can
-/// see.
-struct Culling<'c> {
-    cull: Option<&'c ScreenCull>,
-    band: Candidates,
+/// What a frame's rays can hit ([`Renderer::frame_cull`]), worked out once
+/// per frame.
+pub(crate) struct FrameCull<S> {
+    screen: Option<ScreenCull>,
+    shadow: Option<ShadowCull<S>>,
 }
 
-impl Culling<'_> {
+/// A frame's culling and the primitives the rows being rendered can see.
+struct Culling<'c, S> {
+    cull: Option<&'c ScreenCull>,
+    band: Candidates,
+    shadow: Option<&'c ShadowCull<S>>,
+}
+
+impl<S> Culling<'_, S> {
     /// The candidates of the width-`W` packet whose top-left pixel is
     /// `(x, y)` (every primitive without culling).
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
@@ -244,18 +251,24 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
-        let cull = self.screen_cull();
-        self.render_rect_culled::<W>(rect, out, cull.as_ref(), stats)
+        let cull = self.frame_cull();
+        self.render_rect_culled::<W>(rect, out, &cull, stats)
     }
 
-    /// The frame's screen culling ([`crate::query::cull`]) if the
-    /// accelerator takes candidates and the scene fits its table; `None`
-    /// (every primitive tested) otherwise.
-    pub(crate) fn screen_cull(&self) -> Option<ScreenCull> {
+    /// The frame's culling ([`crate::query::cull`]): of camera rays, and in
+    /// Whitted mode of shadow rays, if the accelerator takes candidates and
+    /// the scene fits the tables; `None` (every primitive tested)
+    /// otherwise.
+    pub(crate) fn frame_cull(&self) -> FrameCull<S> {
         if !A::CULLS {
-            return None;
+            return FrameCull { screen: None, shadow: None };
         }
-        ScreenCull::new(self.tracer.scene(), &self.camera).ok()
+        let scene = self.tracer.scene();
+        let whitted = self.tracer.settings().mode == Mode::Whitted && self.aov == Aov::Color;
+        FrameCull {
+            screen: ScreenCull::new(scene, &self.camera).ok(),
+            shadow: if whitted { ShadowCull::new(scene).ok() } else { None },
+        }
     }
 
     /// [`Renderer::render_rect`] with the frame's culling worked out
@@ -266,13 +279,14 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         &self,
         rect: Rect,
         out: &mut [Rgb8],
-        cull: Option<&ScreenCull>,
+        frame: &FrameCull<S>,
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
         // The primitives the rows of `rect` (and the ring of neighbours an
         // adaptive render traces around it) can see.
+        let cull = frame.screen.as_ref();
         let band = cull.map_or(ALL, |c| c.rows(rect.y.saturating_sub(1), rect.y.saturating_add(rect.h)));
-        let cull = Culling { cull, band };
+        let cull = Culling { cull, band, shadow: frame.shadow.as_ref() };
         // Saturating (a 32-bit usize can overflow): an impossible size is
         // simply larger than any buffer.
         let needed = (rect.w as usize).saturating_mul(rect.h as usize);
@@ -294,7 +308,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 )]
                 |x, y| {
                     let (ray, active) = self.camera.packet::<W>(x, y, rect);
-                    (self.shade_packet(&ray, active, cull.at::<W>(x, y), stats), active)
+                    (self.shade_packet(&ray, active, cull.at::<W>(x, y), cull.shadow, stats), active)
                 },
             ),
             Sampling::Grid(_) => {
@@ -309,7 +323,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     )]
                     |x, y| {
                         let all = Mask::splat(true);
-                        let (c, active) = self.supersample::<W>(x, y, rect, n, all, cull.at::<W>(x, y), stats);
+                        let (c, active) =
+                            self.supersample::<W>(x, y, rect, n, all, cull.at::<W>(x, y), cull.shadow, stats);
                         (c, active)
                     },
                 )
@@ -369,6 +384,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         n: u32,
         want: Mask<W>,
         candidates: Candidates,
+        shadows: Option<&ShadowCull<S>>,
         stats: &mut RayStats,
     ) -> ([Rgb8; W], Mask<W>) {
         let weight = Lanes::splat(S::ONE / S::from_i32((n * n) as i32));
@@ -386,7 +402,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 if active.none() {
                     continue;
                 }
-                let c = self.tracer.trace_among(&ray, active, candidates, stats);
+                let c = self.tracer.trace_among(&ray, active, candidates, shadows, stats);
                 r = r + Lanes::select(active, c.x * weight, zero);
                 g = g + Lanes::select(active, c.y * weight, zero);
                 b = b + Lanes::select(active, c.z * weight, zero);
@@ -410,7 +426,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         out: &mut [Rgb8],
         n: u32,
         threshold: u16,
-        cull: &Culling<'_>,
+        cull: &Culling<'_, S>,
         stats: &mut RayStats,
     ) {
         const SIDE: usize = ADAPTIVE_BLOCK as usize + 2;
@@ -444,7 +460,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     )]
                     |x, y| {
                         let (ray, active) = self.camera.packet::<W>(x, y, ring);
-                        (self.shade_packet(&ray, active, cull.at::<W>(x, y), stats), active)
+                        (self.shade_packet(&ray, active, cull.at::<W>(x, y), cull.shadow, stats), active)
                     },
                 );
                 let at = |x: u32, y: u32| {
@@ -483,7 +499,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                         }
                         if marked.any() {
                             let (fine, traced) =
-                                self.supersample::<W>(x, y, block, n, marked, cull.at::<W>(x, y), stats);
+                                self.supersample::<W>(x, y, block, n, marked, cull.at::<W>(x, y), cull.shadow, stats);
                             for (l, p) in px.iter_mut().enumerate() {
                                 if traced.get(l) {
                                     *p = fine[l];
@@ -506,12 +522,13 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         ray: &crate::geom::ray::RayPacket<S, W>,
         active: Mask<W>,
         candidates: Candidates,
+        shadows: Option<&ShadowCull<S>>,
         stats: &mut RayStats,
     ) -> [Rgb8; W] {
         let mut px = [[0u8; 3]; W];
         match self.aov {
             Aov::Color => {
-                let c = self.tracer.trace_among(ray, active, candidates, stats);
+                let c = self.tracer.trace_among(ray, active, candidates, shadows, stats);
                 // Quantization as lane code, one channel at a time.
                 let (r, g, b) = (c.x.to_unorm8(), c.y.to_unorm8(), c.z.to_unorm8());
                 for (l, p) in px.iter_mut().enumerate() {

@@ -18,7 +18,7 @@ use crate::geom::ray::RayPacket;
 use crate::geom::vec3::{Vec3, Vec3xW};
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
-use crate::query::cull::{Candidates, ALL};
+use crate::query::cull::{Candidates, ShadowCull, ALL};
 use crate::query::{Accelerator, BruteForce, Hit, PacketJob, SceneMismatch};
 use crate::scene::{Material, Primitive, SceneView};
 use heapless::Vec as HVec;
@@ -346,22 +346,25 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// compiled copy of the tracer however many places call this.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn trace<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
-        self.trace_among(ray, active, ALL, stats)
+        self.trace_among(ray, active, ALL, None, stats)
     }
 
     /// [`Tracer::trace`] for camera rays that can hit only the primitives
     /// in `candidates` (see [`Accelerator::closest_hit_among`]; the
     /// renderer's screen culling, [`crate::query::cull`]): the same bits,
-    /// fewer tests. Secondary and shadow rays test every primitive.
+    /// fewer tests. Shadow rays test the primitives `shadows` says they
+    /// can reach (every primitive without it); reflected and refracted
+    /// rays test every primitive.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn trace_among<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,
         active: Mask<W>,
         candidates: Candidates,
+        shadows: Option<&ShadowCull<S>>,
         stats: &mut RayStats,
     ) -> Vec3xW<S, W> {
-        self.accel.run(TraceJob { tracer: self, ray, active, candidates, stats })
+        self.accel.run(TraceJob { tracer: self, ray, active, candidates, shadows, stats })
     }
 
     /// [`Tracer::trace_among`]'s work.
@@ -371,6 +374,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         ray: &RayPacket<S, W>,
         active: Mask<W>,
         candidates: Candidates,
+        shadows: Option<&ShadowCull<S>>,
         stats: &mut RayStats,
     ) -> Vec3xW<S, W> {
         let zero = Lanes::<S, W>::zero();
@@ -401,7 +405,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 continue;
             }
             let (surf, mat) = self.surface_and_materials(&p.ray, &hit);
-            let local = self.local(&p.ray, &hit, &surf, &mat, whitted, stats);
+            let local = self.local(&p.ray, &hit, &surf, &mat, whitted, shadows, stats);
             // Local light, weighted by (1 − Kt) in Whitted mode.
             let w_local = if whitted { p.weight * (Lanes::splat(S::ONE) - mat.kt) } else { p.weight };
             let w_local = Lanes::select(hit.mask, w_local, zero);
@@ -425,6 +429,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         surf: &SurfacePacket<S, W>,
         mat: &Materials<S, W>,
         shadows: bool,
+        cull: Option<&ShadowCull<S>>,
         stats: &mut RayStats,
     ) -> Vec3xW<S, W> {
         let zero = Lanes::<S, W>::zero();
@@ -432,7 +437,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let view = -ray.dir;
         let eps = offset_scale(&surf.point);
         let shadow_origin = surf.point + surf.geometric.scale(eps);
-        for light in self.scene.lights() {
+        let lights = self.scene.lights();
+        for (li, light) in (0..lights.len()).zip(lights.iter()) {
             // Direction and distance to the light.
             let to_light = light.position.splat::<W>() - surf.point;
             let (l_dir, ok) = to_light.normalize();
@@ -446,7 +452,9 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             let trans = if shadows {
                 RayStats::tally(&mut stats.shadow, &mut stats.shadow_packets, lit.count() as u64);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
-                self.accel.transmittance(&self.scene, &shadow, zero, dist, lit)
+                // Only the primitives some of these rays can reach.
+                let among = cull.map_or(ALL, |c| c.candidates(li, &l_dir, eps, lit));
+                self.accel.transmittance_among(&self.scene, &shadow, zero, dist, lit, among)
             } else {
                 Lanes::select(lit, Lanes::splat(S::ONE), zero)
             };
@@ -539,6 +547,7 @@ struct TraceJob<'t, 'a, 'r, 's, S, A, const D: usize, const W: usize> {
     ray: &'r RayPacket<S, W>,
     active: Mask<W>,
     candidates: Candidates,
+    shadows: Option<&'r ShadowCull<S>>,
     stats: &'s mut RayStats,
 }
 
@@ -546,7 +555,7 @@ impl<S: Scalar, A: Accelerator<S>, const D: usize, const W: usize> PacketJob for
     type Output = Vec3xW<S, W>;
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn run(self) -> Vec3xW<S, W> {
-        self.tracer.trace_here(self.ray, self.active, self.candidates, self.stats)
+        self.tracer.trace_here(self.ray, self.active, self.candidates, self.shadows, self.stats)
     }
 }
 
