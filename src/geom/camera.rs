@@ -179,6 +179,12 @@ impl<S: Scalar> Camera<S> {
     pub fn frame(&self) -> (Vec3<S>, Vec3<S>, Vec3<S>) {
         (self.forward, self.right, self.up)
     }
+    /// The screen scales `(tan(vfov/2)·W/H, tan(vfov/2))`: the pixel whose
+    /// centre is at `(u, v)` of `[0, 2]²` (see the module docs) looks along
+    /// `forward + (u − 1)·sx·right + (1 − v)·sy·up`.
+    pub fn screen_scale(&self) -> (S, S) {
+        (self.sx_scale, self.sy_scale)
+    }
     /// The whole image as a rectangle.
     pub fn full_rect(&self) -> Rect {
         Rect { x: 0, y: 0, w: self.width, h: self.height }

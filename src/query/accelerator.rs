@@ -1,6 +1,7 @@
 //! The interface every accelerator implements, and the result of a
 //! closest-hit query.
 
+use super::cull::Candidates;
 use crate::geom::ray::RayPacket;
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
@@ -70,6 +71,49 @@ pub trait Accelerator<S: Scalar>: Copy + core::fmt::Debug {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Hit<S, W>;
+
+    /// Whether [`Accelerator::closest_hit_among`] uses its candidates (the
+    /// renderer works out candidates only for accelerators that do).
+    const CULLS: bool = false;
+
+    /// [`Accelerator::closest_hit`] for rays that can hit only the
+    /// primitives in `candidates` (bit `k` for primitive `k`; primitives
+    /// from 32 on are always candidates): the caller guarantees that no
+    /// active ray can report a crossing with any other primitive (see
+    /// [`crate::query::cull`]), so the answer is bit for bit that of
+    /// `closest_hit`. The default ignores `candidates`.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn closest_hit_among<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+    ) -> Hit<S, W> {
+        let _ = candidates;
+        self.closest_hit(scene, ray, t_min, t_max, active)
+    }
+
+    /// [`Accelerator::transmittance`] for shadow rays that can reach only
+    /// the primitives in `candidates` (as for
+    /// [`Accelerator::closest_hit_among`]; see
+    /// [`crate::query::cull::ShadowCull`]): the same bits. The default
+    /// ignores `candidates`.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn transmittance_among<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+    ) -> Lanes<S, W> {
+        let _ = candidates;
+        self.transmittance(scene, ray, t_min, t_max, active)
+    }
 
     /// Runs `job` (the tracer runs each packet's whole trace through this).
     /// The default runs it in place; an accelerator compiled for another

@@ -4,6 +4,7 @@
 //! no tree code in the image).
 
 use super::accelerator::{Accelerator, Hit};
+use super::cull::{Candidates, ALL};
 use crate::geom::ray::RayPacket;
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
@@ -23,7 +24,22 @@ impl<S: Scalar> Accelerator<S> for BruteForce {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Hit<S, W> {
-        closest_hit(scene, ray, t_min, t_max, active)
+        closest_hit(scene, ray, t_min, t_max, active, ALL)
+    }
+
+    const CULLS: bool = true;
+
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn closest_hit_among<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+    ) -> Hit<S, W> {
+        closest_hit(scene, ray, t_min, t_max, active, candidates)
     }
 
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
@@ -35,11 +51,25 @@ impl<S: Scalar> Accelerator<S> for BruteForce {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Lanes<S, W> {
-        transmittance(scene, ray, t_min, t_max, active)
+        transmittance_among(scene, ray, t_min, t_max, active, ALL)
+    }
+
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn transmittance_among<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+    ) -> Lanes<S, W> {
+        transmittance_among(scene, ray, t_min, t_max, active, candidates)
     }
 }
 
-/// [`Accelerator::closest_hit`] by testing every primitive in index order.
+/// [`Accelerator::closest_hit`] by testing every candidate primitive
+/// (bit `k` of `candidates`; from 32 on, every primitive) in index order.
 #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
 pub(crate) fn closest_hit<S: Scalar, const W: usize>(
     scene: &SceneView<'_, S>,
@@ -47,6 +77,7 @@ pub(crate) fn closest_hit<S: Scalar, const W: usize>(
     t_min: Lanes<S, W>,
     t_max: Lanes<S, W>,
     active: Mask<W>,
+    candidates: Candidates,
 ) -> Hit<S, W> {
     let mut best_t = t_max;
     let mut best_id = [u32::MAX; W];
@@ -56,6 +87,11 @@ pub(crate) fn closest_hit<S: Scalar, const W: usize>(
         // (A `Range` index rather than `enumerate`, whose counter has an
         // overflow check in debug builds: the render path has no panic path.)
         for (k, p) in (0..prims.len()).zip(prims.iter()) {
+            // Culled: no active ray can cross it (`checked_shr`: from 32
+            // on, every primitive is a candidate).
+            if candidates.checked_shr(k as u32).is_some_and(|c| c & 1 == 0) {
+                continue;
+            }
             // Only roots strictly nearer than the best so far come back, so a
             // later primitive at the same distance never replaces an earlier one.
             let r = p.shape.roots(verts, ray, t_min, best_t, active);
@@ -85,12 +121,31 @@ pub(crate) fn transmittance<S: Scalar, const W: usize>(
     t_max: Lanes<S, W>,
     active: Mask<W>,
 ) -> Lanes<S, W> {
+    transmittance_among(scene, ray, t_min, t_max, active, ALL)
+}
+
+/// [`Accelerator::transmittance`] by testing every candidate primitive
+/// (as for [`closest_hit`]) in index order.
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+pub(crate) fn transmittance_among<S: Scalar, const W: usize>(
+    scene: &SceneView<'_, S>,
+    ray: &RayPacket<S, W>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    active: Mask<W>,
+    candidates: Candidates,
+) -> Lanes<S, W> {
     let mut trans = Lanes::select(active, Lanes::splat(S::ONE), Lanes::zero());
     let mut live = active;
     let verts = scene.vertices();
-    for p in scene.primitives().iter() {
+    let prims = scene.primitives();
+    for (k, p) in (0..prims.len()).zip(prims.iter()) {
         if live.none() {
             break;
+        }
+        // Culled: no active ray can reach it.
+        if candidates.checked_shr(k as u32).is_some_and(|c| c & 1 == 0) {
+            continue;
         }
         let r = p.shape.roots(verts, ray, t_min, t_max, live);
         if r.hit0.none() {

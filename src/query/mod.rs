@@ -9,6 +9,10 @@
 //!   and is what firmware without a tree links (nothing else);
 //! - [`BvhView`], a view of a fixed-memory [`Bvh`], visits only the
 //!   primitives whose boxes a ray reaches, with the same bits as brute force;
+//! - [`ScreenCull`] (module [`cull`]) narrows the camera rays of a packet
+//!   to the primitives whose screen rectangle it overlaps; brute force
+//!   takes the narrowed set ([`Accelerator::closest_hit_among`]), the tree
+//!   has no use for it;
 //! - [`AccelChoice`] is either of the two, chosen at run time (the CLI's
 //!   `--accel`), for programs that want both without two compiled copies of
 //!   the renderer.
@@ -26,8 +30,10 @@ mod accel_choice;
 mod accelerator;
 mod brute;
 pub mod bvh;
+pub mod cull;
 
 pub use accel_choice::AccelChoice;
 pub use accelerator::{Accelerator, Hit, PacketJob, SceneMismatch};
 pub use brute::BruteForce;
 pub use bvh::{BuildSettings, Bvh, BvhError, BvhStats, BvhView};
+pub use cull::{Candidates, CullError, ScreenCull, ShadowCull};

@@ -319,11 +319,13 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         if rows == 0 {
             return Err(BandError::BufferTooSmall(BufferTooSmall { needed: full.w as usize, provided: band.len() }));
         }
+        // Screen culling worked out once for the frame, not per band.
+        let cull = self.frame_cull();
         let mut y = 0;
         while y < full.h {
             let h = rows.min(full.h - y);
             let rect = Rect { x: 0, y, w: full.w, h };
-            self.render_rect::<W>(rect, band, stats).map_err(BandError::BufferTooSmall)?;
+            self.render_rect_culled::<W>(rect, band, &cull, stats).map_err(BandError::BufferTooSmall)?;
             let n = full.w as usize * h as usize;
             // `rows` rows fit in `band`, so this is all of the band's pixels.
             let pixels = band.get(..n).unwrap_or(&[]);

@@ -25,8 +25,9 @@
 use crate::geom::camera::{packet_shape, Camera, Rect};
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
-use crate::query::{Accelerator, BruteForce};
-use crate::trace::{RayStats, Tracer};
+use crate::query::cull::{Candidates, ALL};
+use crate::query::{Accelerator, BruteForce, ScreenCull, ShadowCull};
+use crate::trace::{Mode, RayStats, Tracer};
 
 /// One 8-bit RGB pixel.
 pub type Rgb8 = [u8; 3];
@@ -163,6 +164,31 @@ const BLOCK: u32 = 32;
 #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
 const BLOCK: u32 = u32::MAX;
 
+/// What a frame's rays can hit ([`Renderer::frame_cull`]), worked out once
+/// per frame.
+pub(crate) struct FrameCull<S> {
+    screen: Option<ScreenCull>,
+    shadow: Option<ShadowCull<S>>,
+}
+
+/// A frame's culling and the primitives the rows being rendered can see.
+struct Culling<'c, S> {
+    cull: Option<&'c ScreenCull>,
+    band: Candidates,
+    shadow: Option<&'c ShadowCull<S>>,
+}
+
+impl<S> Culling<'_, S> {
+    /// The candidates of the width-`W` packet whose top-left pixel is
+    /// `(x, y)` (every primitive without culling).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn at<const W: usize>(&self, x: u32, y: u32) -> Candidates {
+        let Some(c) = self.cull else { return ALL };
+        let (pw, ph) = const { packet_shape(W) };
+        c.candidates(self.band, x, x.saturating_add(pw - 1), y, y.saturating_add(ph - 1))
+    }
+}
+
 /// Writes the pixels `px` of the lanes `active` of the packet at `(x0, y0)`
 /// into `out`, row-major with the origin and stride of `frame`.
 #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
@@ -225,6 +251,42 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
+        let cull = self.frame_cull();
+        self.render_rect_culled::<W>(rect, out, &cull, stats)
+    }
+
+    /// The frame's culling ([`crate::query::cull`]): of camera rays, and in
+    /// Whitted mode of shadow rays, if the accelerator takes candidates and
+    /// the scene fits the tables; `None` (every primitive tested)
+    /// otherwise.
+    pub(crate) fn frame_cull(&self) -> FrameCull<S> {
+        if !A::CULLS {
+            return FrameCull { screen: None, shadow: None };
+        }
+        let scene = self.tracer.scene();
+        let whitted = self.tracer.settings().mode == Mode::Whitted && self.aov == Aov::Color;
+        FrameCull {
+            screen: ScreenCull::new(scene, &self.camera).ok(),
+            shadow: if whitted { ShadowCull::new(scene).ok() } else { None },
+        }
+    }
+
+    /// [`Renderer::render_rect`] with the frame's culling worked out
+    /// ([`Renderer::screen_cull`]; the band loop works it out once per
+    /// frame).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub(crate) fn render_rect_culled<const W: usize>(
+        &self,
+        rect: Rect,
+        out: &mut [Rgb8],
+        frame: &FrameCull<S>,
+        stats: &mut RayStats,
+    ) -> Result<(), BufferTooSmall> {
+        // The primitives the rows of `rect` (and the ring of neighbours an
+        // adaptive render traces around it) can see.
+        let cull = frame.screen.as_ref();
+        let band = cull.map_or(ALL, |c| c.rows(rect.y.saturating_sub(1), rect.y.saturating_add(rect.h)));
+        let cull = Culling { cull, band, shadow: frame.shadow.as_ref() };
         // Saturating (a 32-bit usize can overflow): an impossible size is
         // simply larger than any buffer.
         let needed = (rect.w as usize).saturating_mul(rect.h as usize);
@@ -246,7 +308,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 )]
                 |x, y| {
                     let (ray, active) = self.camera.packet::<W>(x, y, rect);
-                    (self.shade_packet(&ray, active, stats), active)
+                    (self.shade_packet(&ray, active, cull.at::<W>(x, y), cull.shadow, stats), active)
                 },
             ),
             Sampling::Grid(_) => {
@@ -261,13 +323,14 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     )]
                     |x, y| {
                         let all = Mask::splat(true);
-                        let (c, active) = self.supersample::<W>(x, y, rect, n, all, stats);
+                        let (c, active) =
+                            self.supersample::<W>(x, y, rect, n, all, cull.at::<W>(x, y), cull.shadow, stats);
                         (c, active)
                     },
                 )
             }
             Sampling::Adaptive { threshold, .. } => {
-                self.adaptive_rect::<W>(rect, out, sampling.grid(), threshold, stats)
+                self.adaptive_rect::<W>(rect, out, sampling.grid(), threshold, &cull, stats)
             }
         }
         Ok(())
@@ -320,6 +383,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         clip: Rect,
         n: u32,
         want: Mask<W>,
+        candidates: Candidates,
+        shadows: Option<&ShadowCull<S>>,
         stats: &mut RayStats,
     ) -> ([Rgb8; W], Mask<W>) {
         let weight = Lanes::splat(S::ONE / S::from_i32((n * n) as i32));
@@ -337,7 +402,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 if active.none() {
                     continue;
                 }
-                let c = self.tracer.trace(&ray, active, stats);
+                let c = self.tracer.trace_among(&ray, active, candidates, shadows, stats);
                 r = r + Lanes::select(active, c.x * weight, zero);
                 g = g + Lanes::select(active, c.y * weight, zero);
                 b = b + Lanes::select(active, c.z * weight, zero);
@@ -361,6 +426,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         out: &mut [Rgb8],
         n: u32,
         threshold: u16,
+        cull: &Culling<'_, S>,
         stats: &mut RayStats,
     ) {
         const SIDE: usize = ADAPTIVE_BLOCK as usize + 2;
@@ -394,7 +460,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     )]
                     |x, y| {
                         let (ray, active) = self.camera.packet::<W>(x, y, ring);
-                        (self.shade_packet(&ray, active, stats), active)
+                        (self.shade_packet(&ray, active, cull.at::<W>(x, y), cull.shadow, stats), active)
                     },
                 );
                 let at = |x: u32, y: u32| {
@@ -432,7 +498,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                             marked.set(l, left || right || up || down);
                         }
                         if marked.any() {
-                            let (fine, traced) = self.supersample::<W>(x, y, block, n, marked, stats);
+                            let (fine, traced) =
+                                self.supersample::<W>(x, y, block, n, marked, cull.at::<W>(x, y), cull.shadow, stats);
                             for (l, p) in px.iter_mut().enumerate() {
                                 if traced.get(l) {
                                     *p = fine[l];
@@ -454,12 +521,14 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         &self,
         ray: &crate::geom::ray::RayPacket<S, W>,
         active: Mask<W>,
+        candidates: Candidates,
+        shadows: Option<&ShadowCull<S>>,
         stats: &mut RayStats,
     ) -> [Rgb8; W] {
         let mut px = [[0u8; 3]; W];
         match self.aov {
             Aov::Color => {
-                let c = self.tracer.trace(ray, active, stats);
+                let c = self.tracer.trace_among(ray, active, candidates, shadows, stats);
                 // Quantization as lane code, one channel at a time.
                 let (r, g, b) = (c.x.to_unorm8(), c.y.to_unorm8(), c.z.to_unorm8());
                 for (l, p) in px.iter_mut().enumerate() {
@@ -468,7 +537,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
             }
             aov => {
                 stats.add_primary(active.count() as u64);
-                let hit = self.tracer.closest_hit(ray, Lanes::zero(), Lanes::splat(S::MAX), active);
+                let hit = self.tracer.closest_hit_among(ray, Lanes::zero(), Lanes::splat(S::MAX), active, candidates);
                 // Each encoding as lane code over the whole packet; lanes
                 // outside `active` are not written out by the caller.
                 let mut code = [0u32; W];

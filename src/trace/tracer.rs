@@ -18,6 +18,7 @@ use crate::geom::ray::RayPacket;
 use crate::geom::vec3::{Vec3, Vec3xW};
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
+use crate::query::cull::{Candidates, ShadowCull, ALL};
 use crate::query::{Accelerator, BruteForce, Hit, PacketJob, SceneMismatch};
 use crate::scene::{Material, Primitive, SceneView};
 use heapless::Vec as HVec;
@@ -242,6 +243,19 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     ) -> Hit<S, W> {
         self.accel.closest_hit(&self.scene, ray, t_min, t_max, active)
     }
+    /// [`Tracer::closest_hit`] for rays that can hit only `candidates` (see
+    /// [`Accelerator::closest_hit_among`]).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn closest_hit_among<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+    ) -> Hit<S, W> {
+        self.accel.closest_hit_among(&self.scene, ray, t_min, t_max, active, candidates)
+    }
     /// The settings.
     pub fn settings(&self) -> &TraceSettings<S> {
         &self.settings
@@ -332,12 +346,37 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// compiled copy of the tracer however many places call this.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn trace<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
-        self.accel.run(TraceJob { tracer: self, ray, active, stats })
+        self.trace_among(ray, active, ALL, None, stats)
     }
 
-    /// [`Tracer::trace`]'s work.
+    /// [`Tracer::trace`] for camera rays that can hit only the primitives
+    /// in `candidates` (see [`Accelerator::closest_hit_among`]; the
+    /// renderer's screen culling, [`crate::query::cull`]): the same bits,
+    /// fewer tests. Shadow rays test the primitives `shadows` says they
+    /// can reach (every primitive without it); reflected and refracted
+    /// rays test every primitive.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-    fn trace_here<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>, stats: &mut RayStats) -> Vec3xW<S, W> {
+    pub fn trace_among<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+        shadows: Option<&ShadowCull<S>>,
+        stats: &mut RayStats,
+    ) -> Vec3xW<S, W> {
+        self.accel.run(TraceJob { tracer: self, ray, active, candidates, shadows, stats })
+    }
+
+    /// [`Tracer::trace_among`]'s work.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn trace_here<const W: usize>(
+        &self,
+        ray: &RayPacket<S, W>,
+        active: Mask<W>,
+        candidates: Candidates,
+        shadows: Option<&ShadowCull<S>>,
+        stats: &mut RayStats,
+    ) -> Vec3xW<S, W> {
         let zero = Lanes::<S, W>::zero();
         let mut color = Vec3::new(zero, zero, zero);
         let mut stack: HVec<Pending<S, W>, D> = HVec::new();
@@ -352,7 +391,10 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 RayKind::Reflected => RayStats::tally(&mut stats.reflected, &mut stats.reflected_packets, n),
                 RayKind::Refracted => RayStats::tally(&mut stats.refracted, &mut stats.refracted_packets, n),
             }
-            let hit = self.closest_hit(&p.ray, zero, Lanes::splat(S::MAX), p.active);
+            // Camera rays test only their candidates; every other ray
+            // tests everything.
+            let among = if p.kind == RayKind::Primary { candidates } else { ALL };
+            let hit = self.accel.closest_hit_among(&self.scene, &p.ray, zero, Lanes::splat(S::MAX), p.active, among);
             // Rays that hit nothing see the background.
             let miss = p.active.and_not(hit.mask);
             if miss.any() {
@@ -363,7 +405,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 continue;
             }
             let (surf, mat) = self.surface_and_materials(&p.ray, &hit);
-            let local = self.local(&p.ray, &hit, &surf, &mat, whitted, stats);
+            let local = self.local(&p.ray, &hit, &surf, &mat, whitted, shadows, stats);
             // Local light, weighted by (1 − Kt) in Whitted mode.
             let w_local = if whitted { p.weight * (Lanes::splat(S::ONE) - mat.kt) } else { p.weight };
             let w_local = Lanes::select(hit.mask, w_local, zero);
@@ -387,6 +429,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         surf: &SurfacePacket<S, W>,
         mat: &Materials<S, W>,
         shadows: bool,
+        cull: Option<&ShadowCull<S>>,
         stats: &mut RayStats,
     ) -> Vec3xW<S, W> {
         let zero = Lanes::<S, W>::zero();
@@ -394,7 +437,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let view = -ray.dir;
         let eps = offset_scale(&surf.point);
         let shadow_origin = surf.point + surf.geometric.scale(eps);
-        for light in self.scene.lights() {
+        let lights = self.scene.lights();
+        for (li, light) in (0..lights.len()).zip(lights.iter()) {
             // Direction and distance to the light.
             let to_light = light.position.splat::<W>() - surf.point;
             let (l_dir, ok) = to_light.normalize();
@@ -408,7 +452,9 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             let trans = if shadows {
                 RayStats::tally(&mut stats.shadow, &mut stats.shadow_packets, lit.count() as u64);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
-                self.accel.transmittance(&self.scene, &shadow, zero, dist, lit)
+                // Only the primitives some of these rays can reach.
+                let among = cull.map_or(ALL, |c| c.candidates(li, &l_dir, eps, lit));
+                self.accel.transmittance_among(&self.scene, &shadow, zero, dist, lit, among)
             } else {
                 Lanes::select(lit, Lanes::splat(S::ONE), zero)
             };
@@ -500,6 +546,8 @@ struct TraceJob<'t, 'a, 'r, 's, S, A, const D: usize, const W: usize> {
     tracer: &'t Tracer<'a, S, A, D>,
     ray: &'r RayPacket<S, W>,
     active: Mask<W>,
+    candidates: Candidates,
+    shadows: Option<&'r ShadowCull<S>>,
     stats: &'s mut RayStats,
 }
 
@@ -507,7 +555,7 @@ impl<S: Scalar, A: Accelerator<S>, const D: usize, const W: usize> PacketJob for
     type Output = Vec3xW<S, W>;
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn run(self) -> Vec3xW<S, W> {
-        self.tracer.trace_here(self.ray, self.active, self.stats)
+        self.tracer.trace_here(self.ray, self.active, self.candidates, self.shadows, self.stats)
     }
 }
 

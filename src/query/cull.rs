@@ -1,0 +1,432 @@
+//! Frame-level culling of primary rays: before a frame, the rectangle of
+//! pixels whose camera rays can hit each primitive, so that a packet of
+//! camera rays tests only the primitives whose rectangle it overlaps.
+//!
+//! Exact by construction: a primitive is left out of a packet only where no
+//! ray of that packet can report a crossing with it, so the closest hit (and
+//! its tie-break by lowest index, which [`BruteForce`](crate::query::BruteForce)
+//! keeps by testing the candidates in index order) is the same, bit for bit,
+//! as when every primitive is tested.
+//!
+//! # The rectangle
+//!
+//! A camera ray starts at the eye `E` and runs along the pixel's direction.
+//! If the ray reports a crossing at `t`, the point `X = E + t·d` lies on the
+//! primitive up to the rounding of the root computation, so inside its
+//! axis-aligned bounds grown by a margin `m` (below). If the grown box lies
+//! wholly in front of the eye (every corner at depth `z = (X − E)·f > m`),
+//! the directions from the eye to its points are inside the projection of
+//! its eight corners, `(x/z, y/z)` with `x = (X − E)·r`, `y = (X − E)·u`;
+//! their bounding rectangle, turned into the continuous pixel coordinates
+//! `cx = (sx/sx_scale + 1)·W/2`, `cy = (1 − sy/sy_scale)·H/2` (pixel `i`
+//! covers `cx ∈ [i, i + 1]`, so its subsamples are covered too), grown by
+//! the direction error `δ` and one more pixel each side, is the rectangle.
+//! A primitive without bounds (a plane, an unclipped quadric), with bounds
+//! that reach behind or around the eye, or with non-finite numbers gets the
+//! whole image.
+//!
+//! The margins, in the frame's units (computed in `f32`, once per frame):
+//! - `m = 4·ε·(1 + s) + 8·√(ρ·(1 + s))`, where `ε` is the scalar's
+//!   [`Scalar::RAY_EPSILON`] (the tracer's own scale of "the same point"),
+//!   `s` the largest coordinate magnitude of the eye and the box, and `ρ`
+//!   the scalar's resolution (the smallest power of two it holds: 2⁻²⁴ for
+//!   Q8.24). The first term covers rounding relative to the coordinates;
+//!   the second covers fixed point's absolute rounding of squared
+//!   distances (a sphere's discriminant `r² − |perp|²` is rounded to `ρ`,
+//!   so a ray passing within about `√ρ` of a tiny sphere can report it);
+//! - `δ = 1024·max(ρ, 2⁻²⁴)·(1 + sx_scale² + sy_scale²)` in screen units,
+//!   the rounding of the camera's ray directions (a few units of `ρ` in
+//!   each component, turned into screen units by the perspective divide).
+//!
+//! Both are hundreds of times the rounding they cover and far below a pixel
+//! at ordinary image sizes, so they cost nothing measurable; the property
+//! tests (tests/culling.rs) render random scenes and cameras both ways and
+//! compare every byte.
+
+use crate::geom::camera::Camera;
+use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
+use crate::scene::SceneView;
+
+/// Which primitives a packet of rays may hit: bit `k` for primitive `k`
+/// (primitives from index 32 on are always tested).
+pub type Candidates = u32;
+
+/// Every primitive a candidate.
+pub const ALL: Candidates = u32::MAX;
+
+/// Most primitives a [`ScreenCull`] holds (one bit each in [`Candidates`]).
+pub const CULL_CAPACITY: usize = 32;
+
+/// Why a [`ScreenCull`] could not be made (the renderer then tests every
+/// primitive: culling is only ever a saving).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CullError {
+    /// The scene has more primitives than [`CULL_CAPACITY`].
+    Capacity {
+        /// Primitives in the scene.
+        primitives: usize,
+    },
+}
+
+impl core::fmt::Display for CullError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            CullError::Capacity { primitives } => {
+                write!(f, "{primitives} primitives, screen culling holds at most {CULL_CAPACITY}")
+            }
+        }
+    }
+}
+
+impl core::error::Error for CullError {}
+
+/// Inclusive pixel ranges `[x0, x1] × [y0, y1]`; empty when `x0 > x1`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct PixelRect {
+    x0: u16,
+    x1: u16,
+    y0: u16,
+    y1: u16,
+}
+
+impl PixelRect {
+    const EMPTY: PixelRect = PixelRect { x0: 1, x1: 0, y0: 1, y1: 0 };
+
+    fn overlaps(&self, x0: u32, x1: u32, y0: u32, y1: u32) -> bool {
+        (self.x0 as u32) <= x1 && x0 <= self.x1 as u32 && (self.y0 as u32) <= y1 && y0 <= self.y1 as u32
+    }
+}
+
+/// Per primitive, the pixels whose camera rays can hit it (see the module
+/// docs), for one scene and one camera.
+#[derive(Clone, Copy, Debug)]
+pub struct ScreenCull {
+    rects: [PixelRect; CULL_CAPACITY],
+    len: usize,
+    full: PixelRect,
+}
+
+/// The smallest power of two `S` holds (`f32`: its smallest subnormal).
+fn resolution<S: Scalar>() -> f32 {
+    let mut v = 1.0f32;
+    for _ in 0..160 {
+        let h = v * 0.5;
+        if h == 0.0 || S::from_f32(h).to_f32() != h {
+            break;
+        }
+        v = h;
+    }
+    v
+}
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn max_abs(a: [f32; 3]) -> f32 {
+    a[0].abs().max(a[1].abs()).max(a[2].abs())
+}
+
+/// What the camera says about directions, in `f32`.
+struct View {
+    eye: [f32; 3],
+    f: [f32; 3],
+    r: [f32; 3],
+    u: [f32; 3],
+    sx: f32,
+    sy: f32,
+    w: f32,
+    h: f32,
+    full: PixelRect,
+}
+
+impl ScreenCull {
+    /// The rectangles of `scene`'s primitives for `camera`'s rays; an error
+    /// if the scene has more than [`CULL_CAPACITY`] primitives.
+    pub fn new<S: Scalar>(scene: &SceneView<'_, S>, camera: &Camera<S>) -> Result<Self, CullError> {
+        let prims = scene.primitives();
+        if prims.len() > CULL_CAPACITY {
+            return Err(CullError::Capacity { primitives: prims.len() });
+        }
+        let (f, r, u) = camera.frame();
+        let (sx, sy) = camera.screen_scale();
+        let (w, h) = (camera.width(), camera.height());
+        let full = PixelRect {
+            x0: 0,
+            x1: w.saturating_sub(1).min(65535) as u16,
+            y0: 0,
+            y1: h.saturating_sub(1).min(65535) as u16,
+        };
+        let view = View {
+            eye: camera.eye().to_f32(),
+            f: f.to_f32(),
+            r: r.to_f32(),
+            u: u.to_f32(),
+            sx: sx.to_f32(),
+            sy: sy.to_f32(),
+            w: w as f32,
+            h: h as f32,
+            full,
+        };
+        let rho = resolution::<S>();
+        let eps = S::RAY_EPSILON.to_f32();
+        let delta = 1024.0 * rho.max(1.0 / 16_777_216.0) * (1.0 + view.sx * view.sx + view.sy * view.sy);
+        let mut rects = [PixelRect::EMPTY; CULL_CAPACITY];
+        for (slot, p) in rects.iter_mut().zip(prims) {
+            *slot = match p.shape.bounds(scene.vertices()) {
+                None => full,
+                Some((lo, hi)) => view.rect(lo.to_f32(), hi.to_f32(), eps, rho, delta),
+            };
+        }
+        Ok(ScreenCull { rects, len: prims.len(), full })
+    }
+
+    /// Primitives held.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether it holds no primitive.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The primitives whose rectangle meets the rows `y0 ..= y1` (what a
+    /// band of rows narrows [`ScreenCull::candidates`] to).
+    pub fn rows(&self, y0: u32, y1: u32) -> Candidates {
+        let mut m = 0;
+        for (k, r) in self.rects.iter().take(self.len).enumerate() {
+            if r.overlaps(r.x0 as u32, r.x1 as u32, y0, y1) {
+                m |= 1 << k;
+            }
+        }
+        // Primitives beyond the table (none: `new` refuses them) stay in.
+        m | !low_bits(self.len)
+    }
+
+    /// The primitives among `within` whose rectangle meets the pixels
+    /// `[x0, x1] × [y0, y1]` (inclusive).
+    pub fn candidates(&self, within: Candidates, x0: u32, x1: u32, y0: u32, y1: u32) -> Candidates {
+        let mut m = within & !low_bits(self.len);
+        for (k, r) in self.rects.iter().take(self.len).enumerate() {
+            if within & (1 << k) != 0 && r.overlaps(x0, x1, y0, y1) {
+                m |= 1 << k;
+            }
+        }
+        m
+    }
+
+    /// Whether primitive `k`'s rectangle covers pixel `(x, y)` (true for
+    /// primitives it does not hold).
+    pub fn covers(&self, k: usize, x: u32, y: u32) -> bool {
+        match self.rects.get(k) {
+            Some(r) if k < self.len => r.overlaps(x, x, y, y),
+            _ => true,
+        }
+    }
+
+    /// How many of the primitives it holds have a rectangle smaller than
+    /// the whole image (for reports).
+    pub fn bounded(&self) -> usize {
+        self.rects.iter().take(self.len).filter(|r| **r != self.full).count()
+    }
+}
+
+/// The `n` lowest bits set (all 32 for `n >= 32`).
+fn low_bits(n: usize) -> Candidates {
+    if n >= 32 {
+        ALL
+    } else {
+        (1 << n) - 1
+    }
+}
+
+impl View {
+    /// The pixel rectangle of the box `[lo, hi]` (see the module docs).
+    fn rect(&self, lo: [f32; 3], hi: [f32; 3], eps: f32, rho: f32, delta: f32) -> PixelRect {
+        let s = 1.0 + max_abs(self.eye).max(max_abs(lo)).max(max_abs(hi));
+        let m = 4.0 * eps * s + 8.0 * libm::sqrtf(rho * s);
+        if !m.is_finite() {
+            return self.full;
+        }
+        let (mut sx0, mut sx1, mut sy0, mut sy1) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN);
+        for c in 0..8 {
+            let pick = |i: usize| if c & (1 << i) == 0 { lo[i] - m } else { hi[i] + m };
+            let v = [pick(0) - self.eye[0], pick(1) - self.eye[1], pick(2) - self.eye[2]];
+            let z = dot(v, self.f);
+            // A corner at or behind the eye's plane (or not a number): the
+            // box reaches around the eye; every pixel may see it.
+            if !(z > m) {
+                return self.full;
+            }
+            let (x, y) = (dot(v, self.r) / z, dot(v, self.u) / z);
+            sx0 = sx0.min(x);
+            sx1 = sx1.max(x);
+            sy0 = sy0.min(y);
+            sy1 = sy1.max(y);
+        }
+        // Continuous pixel coordinates; rows grow downwards as `sy` falls.
+        let cx0 = ((sx0 - delta) / self.sx + 1.0) * (self.w * 0.5);
+        let cx1 = ((sx1 + delta) / self.sx + 1.0) * (self.w * 0.5);
+        let cy0 = (1.0 - (sy1 + delta) / self.sy) * (self.h * 0.5);
+        let cy1 = (1.0 - (sy0 - delta) / self.sy) * (self.h * 0.5);
+        let (Some((x0, x1)), Some((y0, y1))) = (span(cx0, cx1, self.full.x1), span(cy0, cy1, self.full.y1)) else {
+            return PixelRect::EMPTY;
+        };
+        PixelRect { x0, x1, y0, y1 }
+    }
+}
+
+/// The pixels `i` (of `0 ..= last`) with `[i, i + 1]` meeting `[c0, c1]`
+/// grown by one pixel each side, or `None` if there are none. Non-finite
+/// bounds give every pixel.
+fn span(c0: f32, c1: f32, last: u16) -> Option<(u16, u16)> {
+    if !c0.is_finite() || !c1.is_finite() {
+        return Some((0, last));
+    }
+    // `as` saturates (and the values are finite): no panic, no wrap.
+    let i0 = libm::floorf(c0) as i64 - 2;
+    let i1 = libm::floorf(c1) as i64 + 1;
+    if i1 < 0 || i0 > last as i64 || i0 > i1 {
+        return None;
+    }
+    Some((i0.max(0) as u16, i1.min(last as i64) as u16))
+}
+
+/// Most lights a [`ShadowCull`] holds (the shadow rays of further lights
+/// test every primitive).
+pub const SHADOW_LIGHTS: usize = 4;
+
+/// One primitive as seen from one light: shadow rays whose direction `d`
+/// (towards the light) has `d·axis > limit` cannot reach it.
+#[derive(Clone, Copy, Debug)]
+struct Occluder<S> {
+    axis: Vec3<S>,
+    limit: S,
+    /// Always a candidate (unbounded, or around the light).
+    always: bool,
+}
+
+/// Per light and primitive, the shadow-ray directions that can reach the
+/// primitive, for the shadow rays the tracer casts (see below); with it
+/// the tracer tests a shadow packet only against the primitives some of
+/// its rays can reach.
+///
+/// A shadow ray leaves `O = P + off` (the hit point `P` moved off the
+/// surface by `|off| <= eps`, [`Scalar::RAY_EPSILON`]`·(1 + max|P|)`) along
+/// `d = normalize(L − P)`, for `t` in `(0, |L − P|)`. Any of its points is
+/// `X = L − s·d + E` with `s > 0` and `|E| <= eps` plus rounding: it lies
+/// within `e` of the ray from the light along `−d`. So a primitive whose
+/// bounds, grown by `e` and the margin `m` of [`ScreenCull`], lie in the
+/// cone around `axis` (the direction from the light to the centre of the
+/// bounds' sphere, radius `R`, distance `D`) of half-angle
+/// `asin((R + e + m)/D)`, can be reached only by rays with
+/// `−d·axis >= cos` of that angle (less `2⁻¹²` for the rounding of `d` and
+/// of the dot product). A primitive with no bounds, or whose grown sphere
+/// holds the light, is always a candidate. `e` is fixed per frame for hit
+/// points within twice the scene's extent (`eps <= e_lim`); lanes further
+/// out (a far point of a plane) test every primitive.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowCull<S> {
+    occluders: [[Occluder<S>; CULL_CAPACITY]; SHADOW_LIGHTS],
+    lights: usize,
+    len: usize,
+    /// Largest offset scale of a hit point whose shadow rays may be culled.
+    eps_limit: S,
+}
+
+impl<S: Scalar> ShadowCull<S> {
+    /// The cones of `scene`'s primitives from its lights; an error if the
+    /// scene has more than [`CULL_CAPACITY`] primitives.
+    pub fn new(scene: &SceneView<'_, S>) -> Result<Self, CullError> {
+        let prims = scene.primitives();
+        if prims.len() > CULL_CAPACITY {
+            return Err(CullError::Capacity { primitives: prims.len() });
+        }
+        let none = Occluder { axis: Vec3::ZERO, limit: S::ZERO, always: true };
+        let mut occluders = [[none; CULL_CAPACITY]; SHADOW_LIGHTS];
+        let pool = scene.vertices();
+        // The scene's extent: lights and bounded primitives.
+        let mut extent = 0.0f32;
+        for l in scene.lights() {
+            extent = extent.max(max_abs(l.position.to_f32()));
+        }
+        for p in prims {
+            if let Some((lo, hi)) = p.shape.bounds(pool) {
+                extent = extent.max(max_abs(lo.to_f32())).max(max_abs(hi.to_f32()));
+            }
+        }
+        let rho = resolution::<S>();
+        let eps = S::RAY_EPSILON.to_f32();
+        // Hit points with max|P| <= 2·extent: eps <= e_lim.
+        let e_lim = eps * (1.0 + 2.0 * extent);
+        // Distances within reach: light to hit point.
+        let s = 1.0 + 4.0 * extent;
+        let m = 4.0 * eps * s + 8.0 * libm::sqrtf(rho * s);
+        let grow = 1.01 * e_lim + m;
+        if !grow.is_finite() {
+            return Err(CullError::Capacity { primitives: prims.len() });
+        }
+        let lights = scene.lights().len().min(SHADOW_LIGHTS);
+        for (row, l) in occluders.iter_mut().zip(scene.lights()) {
+            let lp = l.position.to_f32();
+            for (slot, p) in row.iter_mut().zip(prims) {
+                *slot = match p.shape.bounds(pool) {
+                    None => none,
+                    Some((lo, hi)) => cone(lp, lo.to_f32(), hi.to_f32(), grow).unwrap_or(none),
+                };
+            }
+        }
+        Ok(ShadowCull { occluders, lights, len: prims.len(), eps_limit: S::from_f32(e_lim) })
+    }
+
+    /// The primitives the shadow rays towards light `light` with unit
+    /// directions `dir`, leaving hit points of offset scale `eps`, in the
+    /// lanes `lit`, can reach.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn candidates<const W: usize>(
+        &self,
+        light: usize,
+        dir: &Vec3xW<S, W>,
+        eps: Lanes<S, W>,
+        lit: Mask<W>,
+    ) -> Candidates {
+        let Some(row) = self.occluders.get(light).filter(|_| light < self.lights) else { return ALL };
+        // A hit point too far out for the frame's margin: everything.
+        if lit.and_not(eps.le(Lanes::splat(self.eps_limit))).any() {
+            return ALL;
+        }
+        let mut m = !low_bits(self.len);
+        for (k, o) in row.iter().take(self.len).enumerate() {
+            if o.always || (lit & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any() {
+                m |= 1 << k;
+            }
+        }
+        m
+    }
+}
+
+/// The cone of directions from the light `l` reaching the box
+/// `[lo, hi]` grown by `grow` (see [`ShadowCull`]), as an occluder entry;
+/// `None` if it must always be tested.
+fn cone<S: Scalar>(l: [f32; 3], lo: [f32; 3], hi: [f32; 3], grow: f32) -> Option<Occluder<S>> {
+    let c = [(lo[0] + hi[0]) * 0.5, (lo[1] + hi[1]) * 0.5, (lo[2] + hi[2]) * 0.5];
+    let h = [hi[0] - c[0], hi[1] - c[1], hi[2] - c[2]];
+    // Sphere around the box (grown by one part in 10⁴ for the rounding of
+    // this arithmetic) plus the margins.
+    let r = libm::sqrtf(dot(h, h)) * 1.0001 + grow;
+    let v = [c[0] - l[0], c[1] - l[1], c[2] - l[2]];
+    let dist = libm::sqrtf(dot(v, v));
+    if !(dist > r * 1.001) || !r.is_finite() || !dist.is_finite() {
+        return None;
+    }
+    let sin = r / dist;
+    let cos = libm::sqrtf(1.0 - sin * sin);
+    // `−d·axis >= cos − slack` ⇔ `d·axis <= slack − cos`; the axis points
+    // from the light to the centre.
+    let axis = [v[0] / dist, v[1] / dist, v[2] / dist];
+    let limit = 1.0 / 4096.0 - cos;
+    Some(Occluder { axis: Vec3::from_f32(axis[0], axis[1], axis[2]), limit: S::from_f32(limit), always: false })
+}

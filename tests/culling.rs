@@ -1,0 +1,217 @@
+//! Screen culling (src/query/cull.rs) changes no byte: seeded random scenes
+//! and cameras rendered by brute force with culling (what `Renderer` does
+//! for `BruteForce`) and without (the same brute force behind an
+//! accelerator that takes no candidates), compared byte for byte, for
+//! `f32`, `Fixed32` and `Fixed`, packet widths 1, 4, 8 and 16, the colour
+//! (Whitted and cast) and ID AOVs, supersampling, cameras inside objects,
+//! beside grazing spheres, lights inside and beside primitives, and tiny
+//! and huge scales. Culled renders cull camera rays (`ScreenCull`) and, in
+//! Whitted colour renders, shadow rays (`ShadowCull`).
+
+mod common;
+use common::*;
+use raypack::lanes::{Lanes, Mask};
+use raypack::prelude::*;
+use raypack::query::{Hit, ScreenCull};
+use raypack::ray::RayPacket;
+use raypack::{Fixed, Fixed32};
+
+/// Brute force that ignores candidates (the trait's default): the
+/// reference the culled renders must equal.
+#[derive(Clone, Copy, Debug)]
+struct NoCull;
+
+impl<S: Scalar> Accelerator<S> for NoCull {
+    fn closest_hit<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Hit<S, W> {
+        BruteForce.closest_hit(scene, ray, t_min, t_max, active)
+    }
+    fn transmittance<const W: usize>(
+        &self,
+        scene: &SceneView<'_, S>,
+        ray: &RayPacket<S, W>,
+        t_min: Lanes<S, W>,
+        t_max: Lanes<S, W>,
+        active: Mask<W>,
+    ) -> Lanes<S, W> {
+        BruteForce.transmittance(scene, ray, t_min, t_max, active)
+    }
+}
+
+fn render<S: Scalar, A: Accelerator<S>, const W: usize>(
+    accel: A,
+    scene: &SceneView<'_, S>,
+    camera: Camera<S>,
+    mode: Mode,
+    aov: Aov,
+    sampling: Sampling,
+) -> (Vec<Rgb8>, [u64; 4]) {
+    let settings = TraceSettings { mode, ..TraceSettings::default() };
+    let tracer: Tracer<S, A> = Tracer::with_accelerator(*scene, accel, settings).unwrap();
+    let renderer = Renderer { tracer, camera, aov, sampling };
+    let mut out = vec![[0u8; 3]; (camera.width() * camera.height()) as usize];
+    let mut stats = RayStats::default();
+    renderer.render_rect::<W>(camera.full_rect(), &mut out, &mut stats).unwrap();
+    (out, stats.rays())
+}
+
+/// Culled and unculled renders of one scene and camera agree at every
+/// width; returns how many primitives had a rectangle smaller than the
+/// image.
+fn check<S: Scalar>(scene: &SceneView<'_, S>, camera: Camera<S>, what: &str, rng: &mut Rng) -> usize {
+    let mode = if rng.below(4) == 0 { Mode::Cast } else { Mode::Whitted };
+    let aov = if rng.below(5) == 0 { Aov::Id } else { Aov::Color };
+    let sampling = match rng.below(8) {
+        0 => Sampling::Grid(2),
+        1 => Sampling::adaptive(2, 0.1),
+        _ => Sampling::Centre,
+    };
+    let reference = render::<S, _, 1>(NoCull, scene, camera, mode, aov, sampling);
+    let label = format!("{what} {mode:?} {aov:?} {sampling:?}");
+    assert_eq!(render::<S, _, 1>(BruteForce, scene, camera, mode, aov, sampling), reference, "{label} width 1");
+    assert_eq!(render::<S, _, 4>(BruteForce, scene, camera, mode, aov, sampling), reference, "{label} width 4");
+    assert_eq!(render::<S, _, 8>(BruteForce, scene, camera, mode, aov, sampling), reference, "{label} width 8");
+    assert_eq!(render::<S, _, 16>(BruteForce, scene, camera, mode, aov, sampling), reference, "{label} width 16");
+    ScreenCull::new(scene, &camera).map(|c| c.bounded()).unwrap_or(0)
+}
+
+/// A camera for `S` from `f32` numbers (`None` where `S` refuses it).
+fn camera<S: Scalar>(eye: Vec3<f32>, at: Vec3<f32>, fov: f32, w: u32, h: u32) -> Option<Camera<S>> {
+    Camera::new(cv(eye), cv(at), cv(Vec3::new(0.0, 0.0, 1.0)), fov, w, h).ok()
+}
+
+/// A sphere tangent to the camera ray of pixel `(i, j)` (to `f32`
+/// rounding), at distance `t` along it: the ray grazes it.
+fn grazing_sphere(cam: &Camera<f32>, i: u32, j: u32, t: f32, r: f32, rng: &mut Rng) -> (Vec3<f32>, f32) {
+    let (ray, _) = cam.packet::<1>(i, j, cam.full_rect());
+    let d = ray.dir.lane(0);
+    let (u, v) = d.orthonormal_basis();
+    let a = rng.range(0.0, std::f32::consts::TAU);
+    let side = u.scale(a.cos()) + v.scale(a.sin());
+    (cam.eye() + d.scale(t) + side.scale(r), r)
+}
+
+/// Random scenes of every primitive kind (drawn in `f32`, then scaled by
+/// `scale` and converted to `S`), seen from outside, from inside
+/// primitives and beside grazing spheres.
+fn random_cases<S: Scalar>(seed: u64, cases: u32, scale: f32, name: &str) {
+    let mut rng = Rng(seed);
+    let mut bounded = 0;
+    let mut ran = 0;
+    for case in 0..cases {
+        let n = 1 + rng.below(14) as usize;
+        let mut scene = random_scene_in::<f32>(&mut rng, n);
+        let (w, h) = (8 + rng.below(20), 6 + rng.below(14));
+        // Where the camera is: outside, at a primitive's bounds centre
+        // (inside it), or beside grazing spheres.
+        let kind = rng.below(4);
+        let mut eye = rng.unit().scale(rng.range(4.0, 14.0));
+        let at = rng.vec(-1.0, 1.0);
+        if kind == 1 {
+            let view = scene.view();
+            if let Some(p) = view.primitives().get(rng.below(n as u32) as usize) {
+                if let Some((lo, hi)) = p.shape.bounds(view.vertices()) {
+                    eye = (lo + hi).scale(0.5);
+                }
+            }
+        }
+        let fov = rng.range(10.0, 120.0);
+        let Some(cam_f) = camera::<f32>(eye, at, fov, w, h) else { continue };
+        if kind == 2 {
+            // Grazing spheres: tangent to random pixels' rays, some tiny.
+            let m = scene.add_material(Material::diffuse(Vec3::new(0.9, 0.5, 0.2))).unwrap();
+            for _ in 0..3 {
+                let r = if rng.below(2) == 0 { 0.003 } else { rng.range(0.1, 1.0) };
+                let t = rng.range(2.0, 12.0);
+                let (c, r) = grazing_sphere(&cam_f, rng.below(w), rng.below(h), t, r, &mut rng);
+                let _ = scene.add_sphere(c, r, m);
+            }
+        }
+        if kind == 3 {
+            // A light inside or just outside a primitive's bounds: shadow
+            // rays start beside or graze the occluders around it.
+            let view = scene.view();
+            let near =
+                view.primitives().get(rng.below(n as u32) as usize).and_then(|p| p.shape.bounds(view.vertices()));
+            if let Some((lo, hi)) = near {
+                let c = (lo + hi).scale(0.5);
+                let out = if rng.below(2) == 0 { Vec3::ZERO } else { (hi - lo).scale(0.5 + rng.range(0.0, 0.05)) };
+                let _ = scene.add_light(c + out, Vec3::new(0.6, 0.6, 0.6));
+            }
+        }
+        let Some(cam) = camera::<S>(eye.scale(scale), at.scale(scale), fov, w, h) else { continue };
+        let Some(scaled) = scaled_scene::<S>(&scene.view(), scale) else { continue };
+        bounded += check(&scaled.view(), cam, &format!("{name} case {case} kind {kind}"), &mut rng);
+        ran += 1;
+    }
+    assert!(ran >= cases / 2, "{name}: only {ran} of {cases} cases could be built");
+    // Culling did something: most primitives are bounded and in front.
+    assert!(bounded > ran as usize, "{name}: {bounded} bounded rectangles in {ran} cases");
+}
+
+/// `view` with every coordinate times `scale`, in `S` (`None` if `S`
+/// cannot hold it).
+fn scaled_scene<S: Scalar>(view: &SceneView<'_, f32>, scale: f32) -> Option<TestSceneOf<S>> {
+    let mut s = TestSceneOf::<S>::new();
+    let sim = raypack::similarity::Similarity { origin: [0.0; 3], scale };
+    s.add_similar(view, &sim).ok()?;
+    Some(s)
+}
+
+#[test]
+fn culling_changes_no_byte_in_f32() {
+    random_cases::<f32>(0xC011, 60, 1.0, "f32");
+}
+
+#[test]
+fn culling_changes_no_byte_in_f32_at_tiny_and_huge_scales() {
+    random_cases::<f32>(0xC012, 25, 1.0e-3, "f32 x1e-3");
+    random_cases::<f32>(0xC013, 25, 1.0e4, "f32 x1e4");
+}
+
+#[test]
+fn culling_changes_no_byte_in_fixed32() {
+    // Q8.24 holds coordinates up to 2: the scenes at a fifth of their size
+    // and smaller.
+    random_cases::<Fixed32>(0xC014, 40, 0.12, "fixed32");
+    random_cases::<Fixed32>(0xC015, 20, 0.01, "fixed32 x0.01");
+}
+
+#[test]
+fn culling_changes_no_byte_in_fixed() {
+    random_cases::<Fixed>(0xC016, 30, 1.0, "fixed");
+    random_cases::<Fixed>(0xC017, 15, 100.0, "fixed x100");
+}
+
+#[test]
+fn demo_frame_culls_and_matches_band_by_band() {
+    use raypack::demo::{build_demo_scene_for, demo_camera_for, DemoScene};
+    fn one<S: Scalar>() {
+        let mut scene = DemoScene::<S>::new();
+        let mut described = DemoScene::<f32>::new();
+        let frame = build_demo_scene_for(&mut scene, &mut described).unwrap();
+        let camera = demo_camera_for::<S>(&frame, 64, 48).unwrap();
+        let view = scene.view();
+        let cull = ScreenCull::new(&view, &camera).unwrap();
+        // The floor plane is everywhere, and the back wall spans the view;
+        // the nine other primitives cover less than the image.
+        assert_eq!(cull.bounded(), 9);
+        let tracer: Tracer<S> = Tracer::new(view, TraceSettings::default()).unwrap();
+        let plain: Tracer<S, NoCull> = Tracer::with_accelerator(view, NoCull, TraceSettings::default()).unwrap();
+        let mut band = vec![[0u8; 3]; 64 * 3];
+        let a = Renderer::new(tracer, camera).checksums::<1>(&mut band).unwrap();
+        let b = Renderer::new(plain, camera).checksums::<1>(&mut band).unwrap();
+        assert_eq!(a, b);
+        let c = Renderer::new(tracer, camera).checksums::<8>(&mut band).unwrap();
+        assert!(c.same_render(&a));
+    }
+    one::<f32>();
+    one::<Fixed32>();
+    one::<Fixed>();
+}
