@@ -42,6 +42,10 @@ ICOUNT="-icount shift=0,align=off,sleep=off"
 # the host proves the bytes equal at every width (tests/firmware_checksum.rs).
 BOARDS=(
   "mps2-an386|thumbv7em-none-eabihf|release|1|f32,fixed32|qemu-system-arm -cpu cortex-m4 -M mps2-an386 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
+  # Cortex-M55 with Helium (MVE, 4 f32 lanes per 128-bit register): the same
+  # f32 frame at packet widths 1, 4 and 8 (labels SCALAR-wN, each compared
+  # with the host's SCALAR line), and fixed32 at width 1.
+  "mps3-an547|thumbv8m.main-none-eabihf|release|-|f32-w1,f32-w4,f32-w8,fixed32-w1|qemu-system-arm -M mps3-an547 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
   "microbit|thumbv6m-none-eabi|release-small|1|f32,fixed32|qemu-system-arm -cpu cortex-m0 -M microbit -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
   "riscv-virt|riscv32imac-unknown-none-elf|release-small|1|f32,fixed32|qemu-system-riscv32 -M virt -bios none -nographic -semihosting $ICOUNT -kernel"
   # Raspberry Pi Pico + Pimoroni Pico Display Pack: no QEMU machine models the
@@ -55,7 +59,7 @@ QEMU_TIMEOUT=${RAYPACK_QEMU_TIMEOUT:-300}
 
 # ---------------------------------------------------------------- tools
 say "rustup targets and llvm-tools"
-rustup target add thumbv7em-none-eabihf thumbv6m-none-eabi riscv32imac-unknown-none-elf >/dev/null
+rustup target add thumbv7em-none-eabihf thumbv8m.main-none-eabihf thumbv6m-none-eabi riscv32imac-unknown-none-elf >/dev/null
 rustup component add llvm-tools >/dev/null
 HOST_TRIPLE=$(rustc -vV | sed -n 's/^host: //p')
 LLVM_SIZE="$(rustc --print sysroot)/lib/rustlib/$HOST_TRIPLE/bin/llvm-size"
@@ -139,6 +143,7 @@ cargo build -q --manifest-path downstream-display/Cargo.toml --target thumbv6m-n
 # ---------------------------------------------------------------- boards
 SUMMARY=()
 LLVM_NM="$(dirname "$LLVM_SIZE")/llvm-nm"
+LLVM_OBJDUMP="$(dirname "$LLVM_SIZE")/llvm-objdump"
 # One QEMU run: output to $2, wall time in ms to $2.ms, exit status to $2.rc.
 run_qemu() { # $1: ELF, $2: output file
   local start rc
@@ -169,6 +174,22 @@ for entry in "${BOARDS[@]}"; do
   "$LLVM_NM" --size-sort -S --demangle "$elf" | awk '$3 ~ /^[tTrR]$/' | tail -n 10 | tac \
     | while read -r _addr size _type name; do printf '  %8d  %s\n' "$((16#$size))" "${name:0:110}"; done \
     | sed -e 's/::h[0-9a-f]\{16\}$//' -e 's/_\$LT\$/</g' -e 's/\$LT\$/</g' -e 's/\$GT\$/>/g' -e 's/\$C\$/, /g' -e 's/\$u20\$/ /g' -e 's/\.\./::/g'
+
+  # Hardware-float Arm images: no fused multiply-add anywhere (a fused
+  # vfma/vfms would round once where the host rounds twice: other bits). On
+  # the Helium board, also count the instructions on MVE's q registers: the
+  # packet lanes must have become vector code.
+  if [[ $triple == thumb*eabihf ]]; then
+    asm=$("$LLVM_OBJDUMP" -d --no-show-raw-insn "$elf")
+    fma=$(awk '$2 ~ /^vfn?m[as]/' <<<"$asm" | wc -l)
+    echo "fused multiply-add instructions (vfma/vfms/vfnma/vfnms): $fma"
+    [ "$fma" -eq 0 ] || die "$board: fused multiply-add in the image (results would differ from the host's)"
+    if [ "$board" = mps3-an547 ]; then
+      mve=$(grep -cE '[[:space:],{]q[0-7]([],}]|$)' <<<"$asm" || true)
+      echo "MVE instructions (q-register operands): $mve of $(grep -cE '^ +[0-9a-f]+:' <<<"$asm") in the image"
+      [ "$mve" -gt 1000 ] || die "$board: the packet code did not become MVE vector code"
+    fi
+  fi
 
   if [ "$qemu" = "-" ]; then
     say "$board: not run (no QEMU machine for it)"
@@ -203,9 +224,11 @@ for entry in "${BOARDS[@]}"; do
     match=yes
     for scalar in ${scalars//,/ }; do
       while read -r s key value; do
-        [ "$s" = "$scalar" ] || continue
-        if ! grep -qE "^${s}\.${key}=${value}( |\$)" <<<"$out"; then
-          echo "MISMATCH on $board: host says '$s $key $value'" >&2
+        # A label SCALAR-wN (one packet width of SCALAR) is checked against
+        # the host's SCALAR line: the bytes are the same at every width.
+        [ "$s" = "${scalar%-w*}" ] || continue
+        if ! grep -qE "^${scalar}\.${key}=${value}( |\$)" <<<"$out"; then
+          echo "MISMATCH on $board ($scalar): host says '$s $key $value'" >&2
           match=NO
         fi
       done <<<"$HOST"
@@ -223,6 +246,19 @@ for entry in "${BOARDS[@]}"; do
     say "$board: no reachable panic with overflow checks on (profile panic-never)"
     cargo build -q --profile panic-never -p "raypack-$board" --target "$triple" --features panic-never \
       || die "$board: a panic (or integer overflow) is reachable with overflow checks on"
+  fi
+
+  # Helium: the image of the fastest f32 width alone (the features choose
+  # the frames it holds), its code within the 160 KiB goal of issue 23.
+  if [ "$board" = mps3-an547 ]; then
+    best=$(sed -n 's/^f32-w\([0-9]*\)\.instructions=\([0-9]*\)$/\2 \1/p' <<<"$out" | sort -n | head -1 | cut -d' ' -f2)
+    [ -n "$best" ] || die "$board: no f32-wN.instructions line"
+    say "$board: image of the fastest width alone (f32, width $best)"
+    cargo build -q --profile "$profile" -p "raypack-$board" --target "$triple" --no-default-features --features "f32-w$best" \
+      || die "$board: the width-$best image did not build"
+    one=$(( $(sec .text) + $(sec .vector_table) ))
+    echo "f32-w$best alone: .text $one bytes (goal: at most $((160 * 1024)))"
+    [ "$one" -le $((160 * 1024)) ] || die "$board: the width-$best image has $one bytes of .text, over 160 KiB"
   fi
 
   if [ -n "$out" ]; then
@@ -245,7 +281,9 @@ for entry in "${BOARDS[@]}"; do
       counts="not run | | "
       wall_s="-"
     fi
-    SUMMARY+=("| $board | $scalar | $width | $text | $rodata | $ram | $stack | $counts | $match | $wall_s |")
+    w=$width
+    [ "$scalar" = "${scalar%-w*}" ] || w=${scalar##*-w}
+    SUMMARY+=("| $board | ${scalar%-w*} | $w | $text | $rodata | $ram | $stack | $counts | $match | $wall_s |")
   done
 done
 
