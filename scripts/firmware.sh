@@ -48,6 +48,9 @@ BOARDS=(
   "mps3-an547|thumbv8m.main-none-eabihf|release|-|f32-w1,f32-w4,f32-w8,fixed32-w1|qemu-system-arm -M mps3-an547 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
   "microbit|thumbv6m-none-eabi|release-small|1|f32,fixed32|qemu-system-arm -cpu cortex-m0 -M microbit -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
   "riscv-virt|riscv32imac-unknown-none-elf|release-small|1|f32,fixed32|qemu-system-riscv32 -M virt -bios none -nographic -semihosting $ICOUNT -kernel"
+  # RV32IMAFC with the vector extension (Zve32f, VLEN 128; QEMU 7.2's
+  # `rv32,v=true,vlen=128`): f32 at widths 1/4/8, as on the Helium board.
+  "riscv-virt-v|riscv32imafc-unknown-none-elf|release|-|f32-w1,f32-w4,f32-w8|qemu-system-riscv32 -M virt -cpu rv32,v=true,vlen=128,vext_spec=v1.0 -bios none -nographic -semihosting $ICOUNT -kernel"
   # Raspberry Pi Pico + Pimoroni Pico Display Pack: no QEMU machine models the
   # RP2040, so it is built, sized and proved panic-free only. Its frame is the
   # code the QEMU boards run (common's render_demo_into), host-tested down to
@@ -59,7 +62,7 @@ QEMU_TIMEOUT=${RAYPACK_QEMU_TIMEOUT:-300}
 
 # ---------------------------------------------------------------- tools
 say "rustup targets and llvm-tools"
-rustup target add thumbv7em-none-eabihf thumbv8m.main-none-eabihf thumbv6m-none-eabi riscv32imac-unknown-none-elf >/dev/null
+rustup target add thumbv7em-none-eabihf thumbv8m.main-none-eabihf thumbv6m-none-eabi riscv32imac-unknown-none-elf riscv32imafc-unknown-none-elf >/dev/null
 rustup component add llvm-tools >/dev/null
 HOST_TRIPLE=$(rustc -vV | sed -n 's/^host: //p')
 LLVM_SIZE="$(rustc --print sysroot)/lib/rustlib/$HOST_TRIPLE/bin/llvm-size"
@@ -175,19 +178,29 @@ for entry in "${BOARDS[@]}"; do
     | while read -r _addr size _type name; do printf '  %8d  %s\n' "$((16#$size))" "${name:0:110}"; done \
     | sed -e 's/::h[0-9a-f]\{16\}$//' -e 's/_\$LT\$/</g' -e 's/\$LT\$/</g' -e 's/\$GT\$/>/g' -e 's/\$C\$/, /g' -e 's/\$u20\$/ /g' -e 's/\.\./::/g'
 
-  # Hardware-float Arm images: no fused multiply-add anywhere (a fused
-  # vfma/vfms would round once where the host rounds twice: other bits). On
-  # the Helium board, also count the instructions on MVE's q registers: the
-  # packet lanes must have become vector code.
-  if [[ $triple == thumb*eabihf ]]; then
-    asm=$("$LLVM_OBJDUMP" -d --no-show-raw-insn "$elf")
-    fma=$(awk '$2 ~ /^vfn?m[as]/' <<<"$asm" | wc -l)
-    echo "fused multiply-add instructions (vfma/vfms/vfnma/vfnms): $fma"
+  # Hardware-float images: no fused multiply-add anywhere (a fused
+  # vfma/fmadd.s/vfmacc would round once where the host rounds twice: other
+  # bits). On the vector boards, also count the vector instructions (MVE:
+  # operands in q registers; RVV: `v` instructions): the packet lanes must
+  # have become vector code.
+  fused=; mattr=()
+  case $triple in
+    thumb*eabihf) fused='^vfn?m[as]' ;;
+    riscv32imafc*) fused='^v?fn?m(add|sub|acc|sac)'; mattr=(--mattr=+m,+a,+f,+c,+zve32f) ;;
+  esac
+  if [ -n "$fused" ]; then
+    asm=$("$LLVM_OBJDUMP" -d --no-show-raw-insn "${mattr[@]}" "$elf")
+    fma=$(awk -v re="$fused" '$2 ~ re' <<<"$asm" | wc -l)
+    echo "fused multiply-add instructions: $fma"
     [ "$fma" -eq 0 ] || die "$board: fused multiply-add in the image (results would differ from the host's)"
-    if [ "$board" = mps3-an547 ]; then
-      mve=$(grep -cE '[[:space:],{]q[0-7]([],}]|$)' <<<"$asm" || true)
-      echo "MVE instructions (q-register operands): $mve of $(grep -cE '^ +[0-9a-f]+:' <<<"$asm") in the image"
-      [ "$mve" -gt 1000 ] || die "$board: the packet code did not become MVE vector code"
+    case $board in
+      mps3-an547) vec=$(grep -cE '[[:space:],{]q[0-7]([],}]|$)' <<<"$asm" || true); kind="MVE (q-register operands)" ;;
+      riscv-virt-v) vec=$(awk '$2 ~ /^v/' <<<"$asm" | wc -l); kind="RVV" ;;
+      *) vec= ;;
+    esac
+    if [ -n "$vec" ]; then
+      echo "$kind instructions: $vec of $(grep -cE '^ +[0-9a-f]+:' <<<"$asm") in the image"
+      [ "$vec" -gt 1000 ] || die "$board: the packet code did not become vector code"
     fi
   fi
 
