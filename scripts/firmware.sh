@@ -199,7 +199,7 @@ for entry in "${BOARDS[@]}"; do
       *) vec= ;;
     esac
     if [ -n "$vec" ]; then
-      echo "$kind instructions: $vec of $(grep -cE '^ +[0-9a-f]+:' <<<"$asm") in the image"
+      echo "$kind instructions: $vec of $(grep -cE '^ *[0-9a-f]+:' <<<"$asm") in the image"
       [ "$vec" -gt 1000 ] || die "$board: the packet code did not become vector code"
     fi
   fi
