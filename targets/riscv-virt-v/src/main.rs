@@ -73,7 +73,10 @@ fn main() -> ! {
     unsafe { stack::paint(bottom as *mut u32) };
 
     let mut con = console();
-    fw::report_start(&mut con, &fw::Board { name: "riscv-virt-v", cpu: "rv32imafc + zve32f, vlen 128 (hardware f32, vectors)" });
+    fw::report_start(
+        &mut con,
+        &fw::Board { name: "riscv-virt-v", cpu: "rv32imafc + zve32f, vlen 128 (hardware f32, vectors)" },
+    );
 
     // The CLINT's `mtime` (10 MHz on `virt`), read-only: no interrupt.
     let mut clock = Mtime;
@@ -90,7 +93,10 @@ fn main() -> ! {
     // SAFETY: `[bottom, top)` is the painted stack window.
     let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
     let static_ram = (addr_of!(__estack) as usize).saturating_sub(addr_of!(__sdata) as usize);
-    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top.saturating_sub(bottom), static_ram });
+    fw::report_footprint(
+        &mut con,
+        &fw::Footprint { stack_used: used, stack_watched: top.saturating_sub(bottom), static_ram },
+    );
     con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
     exit(ok)
 }
