@@ -36,10 +36,12 @@ ICOUNT="-icount shift=0,align=off,sleep=off"
 # Cortex-M4F); the boards with small flash or soft-float use
 # `release-small` (opt-level "s"), except the Pico (2 MB of flash; at
 # "s" a division in rp2040-hal's clock set-up stays unfolded and the
-# panic-never link fails). Every board traces one ray at a time:
+# panic-never link fails). The scalar-core boards trace one ray at a time:
 # in-order scalar cores gain nothing from packets, and each packet width
 # multiplies the code (measured on the M4F: 110 KB at width 1, 208 KB at 8);
 # the host proves the bytes equal at every width (tests/firmware_checksum.rs).
+# The vector boards (Helium, RVV; width column "-") run widths 1, 4 and 8,
+# one label per width (docs/firmware.md).
 BOARDS=(
   "mps2-an386|thumbv7em-none-eabihf|release|1|f32,fixed32|qemu-system-arm -cpu cortex-m4 -M mps2-an386 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
   # Cortex-M55 with Helium (MVE, 4 f32 lanes per 128-bit register): the same
