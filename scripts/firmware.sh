@@ -36,14 +36,23 @@ ICOUNT="-icount shift=0,align=off,sleep=off"
 # Cortex-M4F); the boards with small flash or soft-float use
 # `release-small` (opt-level "s"), except the Pico (2 MB of flash; at
 # "s" a division in rp2040-hal's clock set-up stays unfolded and the
-# panic-never link fails). Every board traces one ray at a time:
+# panic-never link fails). The scalar-core boards trace one ray at a time:
 # in-order scalar cores gain nothing from packets, and each packet width
 # multiplies the code (measured on the M4F: 110 KB at width 1, 208 KB at 8);
 # the host proves the bytes equal at every width (tests/firmware_checksum.rs).
+# The vector boards (Helium, RVV; width column "-") run widths 1, 4 and 8,
+# one label per width (docs/firmware.md).
 BOARDS=(
   "mps2-an386|thumbv7em-none-eabihf|release|1|f32,fixed32|qemu-system-arm -cpu cortex-m4 -M mps2-an386 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
+  # Cortex-M55 with Helium (MVE, 4 f32 lanes per 128-bit register): the same
+  # f32 frame at packet widths 1, 4 and 8 (labels SCALAR-wN, each compared
+  # with the host's SCALAR line), and fixed32 at width 1.
+  "mps3-an547|thumbv8m.main-none-eabihf|release|-|f32-w1,f32-w4,f32-w8,fixed32-w1|qemu-system-arm -M mps3-an547 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
   "microbit|thumbv6m-none-eabi|release-small|1|f32,fixed32|qemu-system-arm -cpu cortex-m0 -M microbit -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
   "riscv-virt|riscv32imac-unknown-none-elf|release-small|1|f32,fixed32|qemu-system-riscv32 -M virt -bios none -nographic -semihosting $ICOUNT -kernel"
+  # RV32IMAFC with the vector extension (Zve32f, VLEN 128; QEMU 7.2's
+  # `rv32,v=true,vlen=128`): f32 at widths 1/4/8, as on the Helium board.
+  "riscv-virt-v|riscv32imafc-unknown-none-elf|release|-|f32-w1,f32-w4,f32-w8|qemu-system-riscv32 -M virt -cpu rv32,v=true,vlen=128,vext_spec=v1.0 -bios none -nographic -semihosting $ICOUNT -kernel"
   # Raspberry Pi Pico + Pimoroni Pico Display Pack: no QEMU machine models the
   # RP2040, so it is built, sized and proved panic-free only. Its frame is the
   # code the QEMU boards run (common's render_demo_into), host-tested down to
@@ -55,7 +64,7 @@ QEMU_TIMEOUT=${RAYPACK_QEMU_TIMEOUT:-300}
 
 # ---------------------------------------------------------------- tools
 say "rustup targets and llvm-tools"
-rustup target add thumbv7em-none-eabihf thumbv6m-none-eabi riscv32imac-unknown-none-elf >/dev/null
+rustup target add thumbv7em-none-eabihf thumbv8m.main-none-eabihf thumbv6m-none-eabi riscv32imac-unknown-none-elf riscv32imafc-unknown-none-elf >/dev/null
 rustup component add llvm-tools >/dev/null
 HOST_TRIPLE=$(rustc -vV | sed -n 's/^host: //p')
 LLVM_SIZE="$(rustc --print sysroot)/lib/rustlib/$HOST_TRIPLE/bin/llvm-size"
@@ -139,6 +148,7 @@ cargo build -q --manifest-path downstream-display/Cargo.toml --target thumbv6m-n
 # ---------------------------------------------------------------- boards
 SUMMARY=()
 LLVM_NM="$(dirname "$LLVM_SIZE")/llvm-nm"
+LLVM_OBJDUMP="$(dirname "$LLVM_SIZE")/llvm-objdump"
 # One QEMU run: output to $2, wall time in ms to $2.ms, exit status to $2.rc.
 run_qemu() { # $1: ELF, $2: output file
   local start rc
@@ -169,6 +179,32 @@ for entry in "${BOARDS[@]}"; do
   "$LLVM_NM" --size-sort -S --demangle "$elf" | awk '$3 ~ /^[tTrR]$/' | tail -n 10 | tac \
     | while read -r _addr size _type name; do printf '  %8d  %s\n' "$((16#$size))" "${name:0:110}"; done \
     | sed -e 's/::h[0-9a-f]\{16\}$//' -e 's/_\$LT\$/</g' -e 's/\$LT\$/</g' -e 's/\$GT\$/>/g' -e 's/\$C\$/, /g' -e 's/\$u20\$/ /g' -e 's/\.\./::/g'
+
+  # Hardware-float images: no fused multiply-add anywhere (a fused
+  # vfma/fmadd.s/vfmacc would round once where the host rounds twice: other
+  # bits). On the vector boards, also count the vector instructions (MVE:
+  # operands in q registers; RVV: `v` instructions): the packet lanes must
+  # have become vector code.
+  fused=; mattr=()
+  case $triple in
+    thumb*eabihf) fused='^vfn?m[as]' ;;
+    riscv32imafc*) fused='^v?fn?m(add|sub|acc|sac)'; mattr=(--mattr=+m,+a,+f,+c,+zve32f) ;;
+  esac
+  if [ -n "$fused" ]; then
+    asm=$("$LLVM_OBJDUMP" -d --no-show-raw-insn "${mattr[@]}" "$elf")
+    fma=$(awk -v re="$fused" '$2 ~ re' <<<"$asm" | wc -l)
+    echo "fused multiply-add instructions: $fma"
+    [ "$fma" -eq 0 ] || die "$board: fused multiply-add in the image (results would differ from the host's)"
+    case $board in
+      mps3-an547) vec=$(grep -cE '[[:space:],{]q[0-7]([],}]|$)' <<<"$asm" || true); kind="MVE (q-register operands)" ;;
+      riscv-virt-v) vec=$(awk '$2 ~ /^v/' <<<"$asm" | wc -l); kind="RVV" ;;
+      *) vec= ;;
+    esac
+    if [ -n "$vec" ]; then
+      echo "$kind instructions: $vec of $(grep -cE '^ *[0-9a-f]+:' <<<"$asm") in the image"
+      [ "$vec" -gt 1000 ] || die "$board: the packet code did not become vector code"
+    fi
+  fi
 
   if [ "$qemu" = "-" ]; then
     say "$board: not run (no QEMU machine for it)"
@@ -203,9 +239,11 @@ for entry in "${BOARDS[@]}"; do
     match=yes
     for scalar in ${scalars//,/ }; do
       while read -r s key value; do
-        [ "$s" = "$scalar" ] || continue
-        if ! grep -qE "^${s}\.${key}=${value}( |\$)" <<<"$out"; then
-          echo "MISMATCH on $board: host says '$s $key $value'" >&2
+        # A label SCALAR-wN (one packet width of SCALAR) is checked against
+        # the host's SCALAR line: the bytes are the same at every width.
+        [ "$s" = "${scalar%-w*}" ] || continue
+        if ! grep -qE "^${scalar}\.${key}=${value}( |\$)" <<<"$out"; then
+          echo "MISMATCH on $board ($scalar): host says '$s $key $value'" >&2
           match=NO
         fi
       done <<<"$HOST"
@@ -223,6 +261,19 @@ for entry in "${BOARDS[@]}"; do
     say "$board: no reachable panic with overflow checks on (profile panic-never)"
     cargo build -q --profile panic-never -p "raypack-$board" --target "$triple" --features panic-never \
       || die "$board: a panic (or integer overflow) is reachable with overflow checks on"
+  fi
+
+  # Helium: the image of the fastest f32 width alone (the features choose
+  # the frames it holds), its code within the 160 KiB goal of issue 23.
+  if [ "$board" = mps3-an547 ]; then
+    best=$(sed -n 's/^f32-w\([0-9]*\)\.instructions=\([0-9]*\)$/\2 \1/p' <<<"$out" | sort -n | head -1 | cut -d' ' -f2)
+    [ -n "$best" ] || die "$board: no f32-wN.instructions line"
+    say "$board: image of the fastest width alone (f32, width $best)"
+    cargo build -q --profile "$profile" -p "raypack-$board" --target "$triple" --no-default-features --features "f32-w$best" \
+      || die "$board: the width-$best image did not build"
+    one=$(( $(sec .text) + $(sec .vector_table) ))
+    echo "f32-w$best alone: .text $one bytes (goal: at most $((160 * 1024)))"
+    [ "$one" -le $((160 * 1024)) ] || die "$board: the width-$best image has $one bytes of .text, over 160 KiB"
   fi
 
   if [ -n "$out" ]; then
@@ -245,7 +296,9 @@ for entry in "${BOARDS[@]}"; do
       counts="not run | | "
       wall_s="-"
     fi
-    SUMMARY+=("| $board | $scalar | $width | $text | $rodata | $ram | $stack | $counts | $match | $wall_s |")
+    w=$width
+    [ "$scalar" = "${scalar%-w*}" ] || w=${scalar##*-w}
+    SUMMARY+=("| $board | ${scalar%-w*} | $w | $text | $rodata | $ram | $stack | $counts | $match | $wall_s |")
   done
 done
 
