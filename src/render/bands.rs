@@ -33,9 +33,9 @@
 //! ```
 
 use crate::geom::camera::{packet_shape, Rect};
+use crate::num::scalar::Scalar;
 use crate::query::Accelerator;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
-use crate::num::scalar::Scalar;
 use crate::trace::RayStats;
 
 /// The 32-bit FNV-1a hash (Fowler–Noll–Vo, variant 1a): for each byte,
