@@ -32,4 +32,7 @@ say "crate: MSRV builds, package builds, publish dry run (scripts/check-package.
 say "firmware: build, prove panic-free, run under QEMU, compare with the host"
 ./scripts/firmware.sh
 
+say "browser preview: wasm32 + simd128 build, module checks, headless chromium test (scripts/web.sh test)"
+./scripts/web.sh test
+
 say "all tests passed"
