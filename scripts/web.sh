@@ -53,8 +53,8 @@ PY
   python3 web/test/check_module.py "$WASM_OUT" --strip-to "$DIST/raypack_web.wasm" --max-kb "$MAX_KB" ${CHECK_ARGS:-}
 }
 
-cli() { # the host's raypack command line (debug build: what `cargo test` built)
-  cargo build -q --bin raypack >&2
+cli() { # the host raypack command line (debug build, the features `cargo test --all-features` built it with)
+  cargo build -q --all-features --bin raypack >&2
   echo "target/debug/raypack"
 }
 
