@@ -71,6 +71,8 @@ case "$MODE" in
   test)
     apt_install wabt wasm-objdump
     CHECK_ARGS=--panic-paths build
+    say "web: host unit tests of the preview's state machine (cargo test)"
+    (cd web && cargo test -q --locked)
     apt_install chromium chromium
     say "browser test: headless chromium, page from 127.0.0.1"
     python3 web/test/browser_test.py --dist "$DIST" --raypack "$(cli)" --chromium "$(command -v chromium)"

@@ -26,7 +26,9 @@
 //!
 //! The module imports nothing. Nothing panics by design (errors are
 //! values); the render path provably cannot (see the panic handler).
-#![cfg_attr(not(test), no_std)]
+// `no_std` on WebAssembly; the host build (for `cargo test`) has std for the
+// test harness and its panic handler.
+#![cfg_attr(all(not(test), target_arch = "wasm32"), no_std)]
 #![deny(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
 

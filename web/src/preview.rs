@@ -644,3 +644,132 @@ pub fn image_size(width: u32, height: u32, file: (u32, u32)) -> (u32, u32) {
         (w, h) => (w, h),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    extern crate std;
+    use std::boxed::Box;
+
+    /// Runs `f` with a fresh preview, on a thread with room for building the
+    /// 13.5 MB `Memory` (a debug build makes it on the stack first).
+    fn with_preview(f: impl FnOnce(&mut Preview<'_>) + Send + 'static) {
+        std::thread::Builder::new()
+            .stack_size(64 << 20)
+            .spawn(move || {
+                let mut mem = Box::new(Memory::new());
+                let mut state = Box::new(State::new());
+                f(&mut Preview { mem: &mut mem, state: &mut state });
+            })
+            .unwrap()
+            .join()
+            .unwrap();
+    }
+
+    /// Renders every band; returns the checksums, the rays and the output
+    /// stream.
+    fn render_all(p: &mut Preview<'_>, rows: u32) -> ((u32, u32), u64, std::vec::Vec<u8>) {
+        let mut stream = std::vec::Vec::new();
+        let mut next = 0;
+        loop {
+            let band = p.render_band(rows).unwrap();
+            if band.rows == 0 {
+                break;
+            }
+            assert_eq!(band.y, next);
+            next += band.rows;
+            stream.extend_from_slice(&p.mem.stream[..p.stream_len()]);
+        }
+        assert!(p.complete());
+        (p.checksums(), p.stats().total(), stream)
+    }
+
+    fn fnv(bytes: &[u8]) -> u32 {
+        let mut h = Fnv1a::new();
+        h.write(bytes);
+        h.finish()
+    }
+
+    #[test]
+    fn the_demo_gives_the_firmware_checksums_at_both_widths_and_scalars() {
+        with_preview(|p| {
+            // targets/checksums.txt
+            for (scalar, want, rays) in [
+                (ScalarKind::F32, (0xc82a_8b88, 0x5a25_7b5e), 65678),
+                (ScalarKind::Fixed32, (0x9258_0642, 0x44ae_ccc9), 65612),
+            ] {
+                for (packet, rows, output) in [(4, 8, Output::Rgb888), (1, 3, Output::Rgb565)] {
+                    p.load_demo(scalar).unwrap();
+                    p.setup(0, 0, packet, Aov::Color, output).unwrap();
+                    assert_eq!(p.render_shape().map(|s| (s.0, s.1)), Some(DEMO_SIZE));
+                    let (sums, total, stream) = render_all(p, rows);
+                    assert_eq!((sums, total), (want, rays), "{scalar:?} packet {packet}");
+                    let streamed = if output == Output::Rgb888 { want.0 } else { want.1 };
+                    assert_eq!(fnv(&stream), streamed, "{scalar:?} packet {packet} {output:?}");
+                }
+            }
+        });
+    }
+
+    #[test]
+    fn bad_scenes_give_the_command_lines_messages() {
+        with_preview(|p| {
+            let load = |p: &mut Preview<'_>, text: &str| {
+                p.mem.text[..text.len()].copy_from_slice(text.as_bytes());
+                p.load_nff(text.len(), ScalarKind::F32).map(|_| p.setup(0, 0, 4, Aov::Color, Output::Rgb888))
+            };
+            assert_eq!(load(p, "f 1 1 1 1 0 0 0 1\ns 0 0 0 one\n"), Err(Failed));
+            assert_eq!(p.state.message.as_str(), "line 2, column 9: expected a number, found `one`");
+            assert_eq!(load(p, "f 1 1 1 1 0 0 0 1\ns 0 0 0 1\n"), Ok(Err(Failed)));
+            assert_eq!(p.state.message.as_str(), "the scene has no `v` block (camera)");
+            assert_eq!(p.render_band(8), Err(Failed));
+            assert_eq!(p.state.message.as_str(), "no render is set up");
+            p.mem.text[..2].copy_from_slice(&[b's', 0xff]);
+            assert_eq!(p.load_nff(2, ScalarKind::F32), Err(Failed));
+            assert_eq!(p.state.message.as_str(), "stream did not contain valid UTF-8");
+            assert_eq!(p.load_nff(MAX_TEXT + 1, ScalarKind::F32), Err(Failed));
+            let view = "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 0.01\nresolution 8 6\nf 1 0 0 1 0 0 0 1\n";
+            let mut big = std::string::String::from(view);
+            for i in 0..=MAX_PRIMITIVES {
+                big += &std::format!("s {} 0 0 0.1\n", i % 50);
+            }
+            assert_eq!(load(p, &big), Err(Failed));
+            let m = p.state.message.as_str();
+            assert!(m.contains("scene too large: primitive capacity 16384 exceeded (needs 16385)"), "{m}");
+            // A good scene after the errors.
+            let good = std::format!("{view}l 1 1 5\ns 0 0 0 1\n");
+            assert_eq!(load(p, &good), Ok(Ok(())));
+            assert_eq!(p.setup(0, 0, 3, Aov::Color, Output::Rgb888), Err(Failed));
+            assert_eq!(p.setup(5000, 0, 4, Aov::Color, Output::Rgb888), Err(Failed));
+            assert_eq!(p.setup(0, 3, 4, Aov::Depth, Output::Rgb888), Ok(()));
+            assert_eq!(p.render_shape(), Some((4, 3, 4)));
+        });
+    }
+
+    #[test]
+    fn messages_are_cut_at_a_character() {
+        let mut m = Message::new();
+        let long = "é".repeat(MESSAGE_BYTES);
+        m.set(format_args!("x{long}"));
+        assert_eq!(m.as_bytes().len(), MESSAGE_BYTES - 1);
+        assert!(m.as_str().starts_with("xé"));
+        m.set_static("fixed");
+        assert_eq!(m.as_str(), "fixed");
+    }
+
+    #[test]
+    fn sizes_follow_the_command_line_and_rgb565_expands_to_the_full_range() {
+        assert_eq!(image_size(0, 0, (512, 256)), (512, 256));
+        assert_eq!(image_size(100, 0, (512, 256)), (100, 50));
+        assert_eq!(image_size(0, 100, (512, 256)), (200, 100));
+        assert_eq!(image_size(7, 9, (512, 256)), (7, 9));
+        assert_eq!(expand565(0), [0, 0, 0, 255]);
+        assert_eq!(expand565(0xffff), [255, 255, 255, 255]);
+        assert_eq!(expand565(0xf800), [255, 0, 0, 255]);
+        assert_eq!(expand565(0x07e0), [0, 255, 0, 255]);
+        // Grouped as the 5-6-5 fields.
+        #[allow(clippy::unusual_byte_groupings)]
+        let mid = 0b10000_100000_10000;
+        assert_eq!(expand565(mid), [132, 130, 132, 255]);
+    }
+}
