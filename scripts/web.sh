@@ -74,8 +74,10 @@ case "$MODE" in
     say "web: host unit tests of the preview's state machine (cargo test)"
     (cd web && cargo test -q --locked)
     apt_install chromium chromium
+    say "host CLI (for the host's checksums and error lines)"
+    RAYPACK_CLI=$(cli)
     say "browser test: headless chromium, page from 127.0.0.1"
-    python3 web/test/browser_test.py --dist "$DIST" --raypack "$(cli)" --chromium "$(command -v chromium)"
+    python3 web/test/browser_test.py --dist "$DIST" --raypack "$RAYPACK_CLI" --chromium "$(command -v chromium)"
     ;;
   bench)
     build
