@@ -11,7 +11,7 @@
 //! soft-float alike), no `mul_add`, no reassociation, and transcendental
 //! functions from the pure-Rust `libm` crate, never from the platform's C
 //! library. `sqrt` is the one exception that may use the compiler intrinsic
-//! (with `std`): IEEE requires it to be correctly rounded, so `f32::sqrt` and
+//! (with `std`, and on WebAssembly SIMD through `core::arch`): IEEE requires it to be correctly rounded, so `f32::sqrt` and
 //! `libm::sqrtf` agree bit for bit, and only the intrinsic vectorizes.
 
 use core::fmt::Debug;
@@ -225,7 +225,15 @@ impl Scalar for f32 {
         {
             f32::sqrt(self)
         }
-        #[cfg(not(feature = "std"))]
+        // WebAssembly SIMD without std: the square root instruction (lane 0
+        // of `f32x4.sqrt`, which LLVM reduces to `f32.sqrt` and packs across
+        // lanes again), where libm would run its software square root.
+        #[cfg(all(not(feature = "std"), target_arch = "wasm32", target_feature = "simd128"))]
+        {
+            use core::arch::wasm32::{f32x4_extract_lane, f32x4_splat, f32x4_sqrt};
+            f32x4_extract_lane::<0>(f32x4_sqrt(f32x4_splat(self)))
+        }
+        #[cfg(all(not(feature = "std"), not(all(target_arch = "wasm32", target_feature = "simd128"))))]
         {
             libm::sqrtf(self)
         }

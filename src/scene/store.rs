@@ -207,6 +207,18 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         }
     }
 
+    /// Empties the scene in place (as [`Scene::new`], without building a
+    /// new value: a scene in a `static`, megabytes for large capacities,
+    /// is reused without a copy on the stack).
+    pub fn clear(&mut self) {
+        self.prims.clear();
+        self.verts.clear();
+        self.materials.clear();
+        self.lights.clear();
+        self.background = Vec3::new(S::ZERO, S::ZERO, S::ZERO);
+        self.degenerate_polygons = 0;
+    }
+
     /// Sets the colour seen by rays that hit nothing.
     pub fn set_background(&mut self, color: Vec3<S>) -> Result<(), SceneError> {
         if !color.is_finite() {
@@ -647,6 +659,28 @@ mod tests {
             s.add_light(Vec3::ZERO, Vec3::new(1.0, 1.0, 1.0)),
             Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Lights, capacity: 1, needed: 2 }))
         );
+    }
+
+    #[test]
+    fn clear_empties_the_scene_for_reuse() {
+        let mut s = Small::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        let tri = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        s.add_polygon(&tri, m).unwrap();
+        s.add_polygon(&[Vec3::ZERO, Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0)], m).unwrap();
+        s.add_light(Vec3::ZERO, Vec3::new(1.0, 1.0, 1.0)).unwrap();
+        s.set_background(Vec3::new(0.5, 0.5, 0.5)).unwrap();
+        assert_eq!((s.len(), s.degenerate_polygons()), (2, 1));
+        s.clear();
+        let v = s.view();
+        assert_eq!((s.len(), s.vertex_count(), s.degenerate_polygons()), (0, 0, 0));
+        assert_eq!((v.materials().len(), v.lights().len(), v.background()), (0, 0, Vec3::ZERO));
+        // The whole capacity is free again.
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        assert_eq!(m, 0);
+        s.add_polygon(&tri, m).unwrap();
+        s.add_polygon(&tri, m).unwrap();
+        assert_eq!(s.vertex_count(), 6);
     }
 
     #[test]

@@ -124,7 +124,9 @@ impl<S: Scalar, const N: usize> Bvh<S, N> {
         let used = self.stats.nodes as usize + usize::from(self.stats.nodes > 0); // + the empty slot 1
         BvhView {
             nodes: &flat[..used.min(flat.len())],
-            order: &self.order[..self.stats.primitives as usize],
+            // (`primitives` never exceeds `N`; `get` keeps a bounds check,
+            // a panic path, out of code that must not have one.)
+            order: self.order.get(..self.stats.primitives as usize).unwrap_or(&[]),
             bounded: self.stats.primitives - self.stats.unbounded,
         }
     }
