@@ -32,6 +32,8 @@ die() { printf '\nFIRMWARE FAILURE: %s\n' "$*" >&2; exit 1; }
 # length, and prints SCALAR.instructions=N.
 ICOUNT="-icount shift=0,align=off,sleep=off"
 # board  target-triple  cargo-profile  packet-width  scalars  qemu command (ELF appended; "-": not run)
+#   [cargo selection: package, binary, features; default `-p raypack-BOARD`]
+# The ELF is target/TRIPLE/PROFILE/raypack-BOARD (a package's binary of that name).
 # Profiles (targets/Cargo.toml): `release` optimizes for speed (the
 # Cortex-M4F); the boards with small flash or soft-float use
 # `release-small` (opt-level "s"), except the Pico (2 MB of flash; at
@@ -48,7 +50,10 @@ BOARDS=(
   # f32 frame at packet widths 1, 4 and 8 (labels SCALAR-wN, each compared
   # with the host's SCALAR line), and fixed32 at width 1.
   "mps3-an547|thumbv8m.main-none-eabihf|release|-|f32-w1,f32-w4,f32-w8,fixed32-w1|qemu-system-arm -M mps3-an547 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
-  "microbit|thumbv6m-none-eabi|release-small|1|f32,fixed32|qemu-system-arm -cpu cortex-m0 -M microbit -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
+  "microbit|thumbv6m-none-eabi|release-small|1|f32,fixed32|qemu-system-arm -cpu cortex-m0 -M microbit -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel|-p raypack-microbit --bin raypack-microbit"
+  # What a user flashes: the same board, fixed32 only, the Q8.24 multiply
+  # out of line (raypack's `compact-mul`: 46 KB instead of 71 KB of code).
+  "microbit-fixed32|thumbv6m-none-eabi|release-small|1|fixed32|qemu-system-arm -cpu cortex-m0 -M microbit -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel|-p raypack-microbit --bin raypack-microbit-fixed32 --features compact-mul"
   "riscv-virt|riscv32imac-unknown-none-elf|release-small|1|f32,fixed32|qemu-system-riscv32 -M virt -bios none -nographic -semihosting $ICOUNT -kernel"
   # RV32IMAFC with the vector extension (Zve32f, VLEN 128; QEMU 7.2's
   # `rv32,v=true,vlen=128`): f32 at widths 1/4/8, as on the Helium board.
@@ -147,6 +152,7 @@ cargo build -q --manifest-path downstream-display/Cargo.toml --target thumbv6m-n
 
 # ---------------------------------------------------------------- boards
 SUMMARY=()
+SHARES=()
 LLVM_NM="$(dirname "$LLVM_SIZE")/llvm-nm"
 LLVM_OBJDUMP="$(dirname "$LLVM_SIZE")/llvm-objdump"
 # One QEMU run: output to $2, wall time in ms to $2.ms, exit status to $2.rc.
@@ -163,11 +169,12 @@ run_qemu() { # $1: ELF, $2: output file
 RUNS=$(mktemp -d)
 trap 'rm -rf "$RUNS"' EXIT
 for entry in "${BOARDS[@]}"; do
-  IFS='|' read -r board triple profile width scalars qemu <<<"$entry"
+  IFS='|' read -r board triple profile width scalars qemu select <<<"$entry"
   elf="target/$triple/$profile/raypack-$board"
+  read -r -a sel <<<"${select:--p raypack-$board}"
 
   say "$board: build ($profile, LTO)"
-  cargo build -q --profile "$profile" -p "raypack-$board" --target "$triple" || die "$board: build failed"
+  cargo build -q --profile "$profile" "${sel[@]}" --target "$triple" || die "$board: build failed"
 
   say "$board: sizes"
   "$LLVM_SIZE" -A "$elf" | grep -E '^(section|\.vector_table|\.boot2|\.text|\.rodata|\.data|\.bss|\.uninit|\.init)' || true
@@ -253,13 +260,13 @@ for entry in "${BOARDS[@]}"; do
 
   # After the run: the release panic-never build replaces the binary run above.
   say "$board: no reachable panic (panic-never link, $profile + LTO)"
-  cargo build -q --profile "$profile" -p "raypack-$board" --target "$triple" --features panic-never \
+  cargo build -q --profile "$profile" "${sel[@]}" --target "$triple" --features panic-never \
     || die "$board: a panic is reachable (the panic-never build did not link)"
   # Stricter, opt-in: overflow checks on as well (passed for every board
   # before the BVH merge; not yet re-proved with the BVH traversal).
   if [ "${RAYPACK_OVERFLOW_PROOF:-0}" = 1 ]; then
     say "$board: no reachable panic with overflow checks on (profile panic-never)"
-    cargo build -q --profile panic-never -p "raypack-$board" --target "$triple" --features panic-never \
+    cargo build -q --profile panic-never "${sel[@]}" --target "$triple" --features panic-never \
       || die "$board: a panic (or integer overflow) is reachable with overflow checks on"
   fi
 
@@ -299,6 +306,11 @@ for entry in "${BOARDS[@]}"; do
     w=$width
     [ "$scalar" = "${scalar%-w*}" ] || w=${scalar##*-w}
     SUMMARY+=("| $board | ${scalar%-w*} | $w | $text | $rodata | $ram | $stack | $counts | $match | $wall_s |")
+    # Two-core shares (firmware that times its bands as the Pico splits them).
+    if [ -n "$out" ] && grep -q "^${scalar}\.per-core\.instructions=" <<<"$out"; then
+      share() { sed -n "s/^${scalar}\.$1\.instructions=\([0-9]*\)\$/\1/p" <<<"$out"; }
+      SHARES+=("| $board | $scalar | $(share per-core) | $(share core0) | $(share core1) | $(share lockstep) | $instr |")
+    fi
   done
 done
 
@@ -306,4 +318,10 @@ say "summary (sizes in bytes; static RAM from llvm-size, in parentheses as measu
 echo "| board | scalar | width | .text | .rodata | .data+.bss | stack high-water | instructions / frame | / pixel | / ray | checksum = host | QEMU wall time |"
 echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
 printf '%s\n' "${SUMMARY[@]}"
+if [ ${#SHARES[@]} -gt 0 ]; then
+  say "two cores (the Pico's split: bands of 8 rows alternating between the cores; each share includes the scene build; lockstep: the cores go band pair by band pair)"
+  echo "| board | scalar | per-core instructions (larger share) | core 0 | core 1 | lockstep | one core |"
+  echo "| --- | --- | --- | --- | --- | --- | --- |"
+  printf '%s\n' "${SHARES[@]}"
+fi
 say "firmware: all boards match the host, every run deterministic"

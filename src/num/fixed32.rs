@@ -28,14 +28,18 @@
 //!
 //! # Arithmetic (all total: nothing here can panic, in debug or release)
 //! - `+`, `−`, negation: exact, saturating to `±MAX`.
-//! - `×`: exactly one 32×32→64 product, rounded to nearest with ties towards
+//! - `×`: the exact 32×32→64 product, rounded to nearest with ties towards
 //!   +∞ (`⌊(a·b + 2²³)/2²⁴⌋`, the rule of [`crate::num::fixed64::Fixed`]),
-//!   saturating. Two implementations give the same bits: the portable one
-//!   (`i64` product: one `imul` on x86-64, `mul`+`mulh` on RV32IMAC, `smull`
-//!   on Armv7-M) and, on 32-bit Arm without 32-bit atomics (Armv6-M, where
-//!   LLVM would call `__aeabi_lmul`, a full 64×64 product), one built from
-//!   four 16×16→32 `muls` of the operands' magnitudes. The unit tests run
-//!   both on the host against each other and against an exact reference.
+//!   saturating. Three implementations give the same bits: an `i64` product
+//!   and a clamp on 64-bit hosts (one `imul`); on 32-bit targets with a long
+//!   multiply (`mul`+`mulh` on RV32IMAC, `smull` on Armv7-M) the product's
+//!   two words, half an ulp added with its carry, and a range test that is
+//!   one compare for products below 64 in magnitude; and on 32-bit Arm
+//!   without 32-bit atomics (Armv6-M, where LLVM would call `__aeabi_lmul`,
+//!   a full 64×64 product) the same words from four 16×16→32 `muls` of
+//!   signed 16-bit limbs, the rounding folded into a cross term (see
+//!   `mul_raw_limbs`). The unit tests run all three on the host against each
+//!   other and against an exact `i128` reference.
 //! - `÷`: `a·2^FRAC / b` correctly rounded, ties away from zero,
 //!   saturating; `x / 0` is `MAX` for `x > 0`, `−MAX` for `x < 0`, and `0`
 //!   for `0 / 0`. No 64-bit library division: the divisor is normalised
@@ -81,14 +85,29 @@
 //! | operation | M0 `Fixed32` | M0 soft-float `f32` | M0 32.32 `Fixed` | RV32 `Fixed32` | RV32 soft-float `f32` |
 //! |-----------|------:|------:|------:|------:|------:|
 //! | `+`       | 9     | 115   | 35    | 10    | 79    |
-//! | `×`       | 50    | 112   | 350   | 26    | 51    |
+//! | `×`       | 50 (former product: see below) | 112   | 350   | 26 (former) | 51    |
 //! | `÷`       | 193   | 175   | 3552  | 100   | 98    |
 //! | `sqrt`    | 119   | 419 (`libm::sqrtf`) | 4016 | 97 | 124 |
 //! | `powf`    | 328   | 10138 (`libm::powf`), 4367 ([`crate::num::unit_pow::powf_unit`]) | 9960 | 267 | 5781, 2395 |
 //! | `from_f32`| 31    | —     | —     | 26    | —     |
 //!
+//! The `×` figures were measured for the former products (magnitudes and a
+//! sign fix-up on Armv6-M, an `i64` clamp on RV32). The current ones,
+//! measured the same way on the same operands (a scratch harness calling
+//! the product and an identity function through function pointers, 512
+//! pairs; the difference per product, so prologue, epilogue and the
+//! operands' `from_bits` are included but not the call): Cortex-M0 33.5
+//! against 44.0 for the former, RV32IMAC 18.2 against 23.6, Cortex-M4 18.0
+//! against 18.0. Inline, as the renderer uses it, the fast path is 29
+//! instructions with 4 `muls` on the M0, 14 with `mul`+`mulh` on RV32IMAC
+//! and about 10 with one `smull` on the M4 (`llvm-objdump` of the firmware
+//! images). Per frame of the firmware demo (15.5 M products) the M0
+//! retires 115 M fewer instructions, RV32IMAC 53 M and the M4 62 M
+//! (docs/firmware.md).
+//!
 //! Code sizes on the M0 (`llvm-nm --size-sort -S`, bytes): `+` inlined,
-//! 10; `×` inlined, about 80; `÷` 532; `sqrt` 428 + 24 (table); `powf`
+//! 10; `×` inlined, about 60 (with the feature `compact-mul`, one 70-byte
+//! function and a call at each use); `÷` 532; `sqrt` 428 + 24 (table); `powf`
 //! 1084 + 56 (table). Soft-float: `__addsf3` 504, `__mulsf3` 416 (+ 74 for
 //! `__aeabi_lmul`), `__divsf3` 528, `libm::sqrtf` 284 + 256 (table).
 //!
@@ -378,12 +397,26 @@ fn mul16x32(w: u32, d: u32) -> u64 {
     ((w.wrapping_mul(d >> 16) as u64) << 16) + w.wrapping_mul(d & 0xFFFF) as u64
 }
 
-/// The portable product: `⌊(a·b + 2^(FRAC−1)) / 2^FRAC⌋` from one exact
-/// `i64` product (|a·b| ≤ 2⁶², so adding half an ulp cannot overflow), then
-/// clamped to `[−MAX, MAX]`. The arithmetic shift floors, so ties go
-/// towards +∞.
+// The product `⌊(a·b + 2^(FRAC−1)) / 2^FRAC⌋`, clamped to `[−MAX, MAX]`
+// (round half up of the exact product), has three implementations with the
+// same bits for every pair, chosen per target and tested against each
+// other and against an `i128` reference on the host:
+// - 64-bit hosts: one `i64` product and a clamp ([`mul_raw_native`]);
+// - 32-bit targets with a long multiply (RV32IMAC's `mul`+`mulh`, Armv7-M's
+//   `smull`): the 64-bit product as two words ([`mul_raw_words`]);
+// - Armv6-M, which has none (LLVM would call `__aeabi_lmul`, a full 64×64
+//   product): four 16×16→32 `muls` of signed 16-bit limbs
+//   ([`mul_raw_limbs`]).
+// The two 32-bit forms end in [`round_words`]: the rounded product's two
+// words, a range test that is one compare for every product below 2^(30−FRAC)
+// in magnitude (64 for Q8.24: all a scene in the coordinate box normally
+// forms), and the exact clamp out of line for the rest.
+
+/// The portable product (64-bit hosts): one exact `i64` product
+/// (|a·b| ≤ 2⁶², so adding half an ulp cannot overflow), an arithmetic shift
+/// (which floors, so ties go towards +∞), then the clamp.
 #[inline(always)]
-#[cfg_attr(all(target_arch = "arm", not(target_has_atomic = "32")), allow(dead_code))]
+#[cfg_attr(not(target_pointer_width = "64"), allow(dead_code))]
 fn mul_raw_native(a: i32, b: i32) -> i32 {
     let r = (a as i64 * b as i64 + HALF_ULP) >> FRAC;
     if r > RAW_MAX as i64 {
@@ -395,36 +428,89 @@ fn mul_raw_native(a: i32, b: i32) -> i32 {
     }
 }
 
-/// The same product from 16-bit limbs of the magnitudes (Armv6-M). With
-/// `P = |a|·|b|`, a positive product rounds to `⌊(P + h)/2^FRAC⌋` and a
-/// negative one to `−⌈(P − h)/2^FRAC⌉ = −⌊(P + h − 1)/2^FRAC⌋` (`h` = half an
-/// ulp), so the magnitude gets the bias `h − neg` and the sign is applied
-/// last: the same bits as [`mul_raw_native`] for every pair (tested).
-/// Magnitudes are at most 2³¹, so their high limbs are at most 2¹⁵ and the
-/// two cross products sum below 2³² (no carry to track, unlike `wmul`).
+/// The result from the words of `V = a·b + 2^(FRAC−1)` (`hi` signed, `lo`
+/// unsigned): `V >> FRAC`, clamped. When `hi` lies in `[−2^(FRAC−2),
+/// 2^(FRAC−2))`, `|V >> FRAC| < 2³⁰` fits and is neither `i32::MIN` nor past
+/// `MAX`, so the result is the bits `hi·2^(32−FRAC) | lo >> FRAC`: the test
+/// is that `hi` shifted right by `FRAC − 2` is its own sign. Larger products
+/// take [`clamp_words`].
+#[inline(always)]
+#[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+fn round_words(hi: i32, lo: u32) -> i32 {
+    if hi >> (FRAC - 2) != hi >> 31 {
+        return clamp_words(hi, lo);
+    }
+    (hi << (32 - FRAC)) | (lo >> FRAC) as i32
+}
+
+/// [`round_words`] for products of magnitude `2^(30−FRAC)` and up (rare:
+/// out of line). `V >> FRAC` fits 32 bits iff `hi`'s bits from `FRAC − 1`
+/// up are all copies of the result's sign bit; it is then the low word `r`,
+/// which is in range unless it is `i32::MIN` (then `−MAX`, like every
+/// negative result past the range).
+#[cold]
+#[inline(never)]
+#[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+fn clamp_words(hi: i32, lo: u32) -> i32 {
+    let r = (hi << (32 - FRAC)) | (lo >> FRAC) as i32;
+    if hi >> (FRAC - 1) == r >> 31 && r != i32::MIN {
+        r
+    } else if hi < 0 {
+        RAW_MIN
+    } else {
+        RAW_MAX
+    }
+}
+
+/// The product on 32-bit targets with a 32×32→64 multiply: the `i64`
+/// product's two words (`mulh`/`mul` or `smull`), half an ulp added to the
+/// low word with its carry into the high one, then [`round_words`].
+#[inline(always)]
+#[cfg_attr(any(target_pointer_width = "64", all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+fn mul_raw_words(a: i32, b: i32) -> i32 {
+    let p = a as i64 * b as i64;
+    let (lo, carry) = (p as u32).overflowing_add(HALF_ULP as u32);
+    round_words(((p >> 32) as i32).wrapping_add(carry as i32), lo)
+}
+
+/// The product on Armv6-M, from signed 16-bit limbs: `a = aₕ·2¹⁶ + aₗ` with
+/// `aₕ = a >> 16 ∈ [−2¹⁵, 2¹⁵)` (arithmetic shift) and `aₗ = a & 0xFFFF ∈
+/// [0, 2¹⁶)`, the same for `b`, so
+///
+/// `a·b = H·2³² + (C₁ + C₂)·2¹⁶ + L`, `H = aₕbₕ`, `C₁ = aₕbₗ`, `C₂ = aₗbₕ`,
+/// `L = aₗbₗ`.
+///
+/// Each partial product fits its 32-bit `muls` exactly (`|H| ≤ 2³⁰`,
+/// `|C| < 2³¹`, `L < 2³²` unsigned). The bits of `L` below 2¹⁶ cannot
+/// reach bit `FRAC ≥ 16` of the sum except through a carry, so with `h`
+/// half an ulp, `L + (h mod 2¹⁶) = q·2¹⁶ + ρ` (`ρ < 2¹⁶`; no overflow:
+/// `L ≤ (2¹⁶ − 1)²`) and
+///
+/// `⌊(a·b + h)/2^FRAC⌋ = ⌊(H·2³² + (C₁' + C₂)·2¹⁶)/2^FRAC⌋`,
+/// `C₁' = C₁ + q + ⌊h/2¹⁶⌋`
+///
+/// (dropping `ρ` changes no bit from `FRAC` up). `C₁'` still fits an `i32`
+/// (below `2³¹ − 2¹⁵ + 2¹⁰`), but `C₁' + C₂` may need 33 bits, so the sum
+/// `C·2¹⁶` is added as a 64-bit number: its low word `C₁'·2¹⁶ + C₂·2¹⁶`
+/// (one carry) and its high word `H + (C₁' >> 16) + (C₂ >> 16)` plus that
+/// carry. Then [`round_words`]. Bit for bit the rounding of
+/// [`mul_raw_native`]; 4 `muls` and about 29 instructions on the fast path
+/// (no magnitudes, no sign fix-up, no 64-bit library call).
 #[inline(always)]
 #[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
 fn mul_raw_limbs(a: i32, b: i32) -> i32 {
-    let neg = (a ^ b) < 0;
-    let (x, y) = (a.unsigned_abs(), b.unsigned_abs());
-    let (xl, xh, yl, yh) = (x & 0xFFFF, x >> 16, y & 0xFFFF, y >> 16);
-    let mid = xl * yh + xh * yl; // < 2·2¹⁶·2¹⁵ = 2³²
-    let (lo, c1) = (xl * yl).overflowing_add(mid << 16);
-    let hi = xh * yh + (mid >> 16) + c1 as u32; // P = hi·2³² + lo, hi ≤ 2³⁰
-                                                // Round: add the bias to the 64-bit magnitude.
-    let (lo, c2) = lo.overflowing_add(HALF_ULP as u32 - neg as u32);
-    let hi = hi + c2 as u32;
-    // |result| = ⌊(P + bias)/2^FRAC⌋; it exceeds MAX iff it is ≥ 2³¹, i.e.
-    // iff hi ≥ 2^(FRAC−1).
-    if hi >> (FRAC - 1) != 0 {
-        return if neg { RAW_MIN } else { RAW_MAX };
-    }
-    let m = ((hi << (32 - FRAC)) | (lo >> FRAC)) as i32; // ≤ 2³¹ − 1
-    if neg {
-        -m
-    } else {
-        m
-    }
+    const _: () = assert!(FRAC >= 16);
+    let (ah, bh) = (a >> 16, b >> 16);
+    let (al, bl) = (a & 0xFFFF, b & 0xFFFF);
+    // (Wrapping only to spare overflow checks: the bounds above keep every
+    // partial product, and C₁', exact.)
+    let h = ah.wrapping_mul(bh);
+    let l = (al as u32).wrapping_mul(bl as u32).wrapping_add((HALF_ULP & 0xFFFF) as u32);
+    let c1 = ah.wrapping_mul(bl).wrapping_add((l >> 16) as i32).wrapping_add((HALF_ULP >> 16) as i32);
+    let c2 = al.wrapping_mul(bh);
+    let (lo, carry) = ((c1 << 16) as u32).overflowing_add((c2 << 16) as u32);
+    let hi = h.wrapping_add(c1 >> 16).wrapping_add(c2 >> 16).wrapping_add(carry as i32);
+    round_words(hi, lo)
 }
 
 // ---------------------------------------------------------------------------
@@ -912,13 +998,28 @@ impl Mul for Fixed32 {
     fn mul(self, o: Self) -> Self {
         #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
         {
-            Fixed32(mul_raw_limbs(self.0, o.0))
+            Fixed32(mul_raw_armv6m(self.0, o.0))
         }
-        #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+        #[cfg(target_pointer_width = "64")]
         {
             Fixed32(mul_raw_native(self.0, o.0))
         }
+        #[cfg(not(any(target_pointer_width = "64", all(target_arch = "arm", not(target_has_atomic = "32")))))]
+        {
+            Fixed32(mul_raw_words(self.0, o.0))
+        }
     }
+}
+
+/// The Armv6-M product: [`mul_raw_limbs`] inline at every use (about 29
+/// instructions and 60 bytes each), or with the feature `compact-mul` one
+/// shared copy that every use calls (a few more instructions per product,
+/// a few bytes per use).
+#[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+#[cfg_attr(feature = "compact-mul", inline(never))]
+#[cfg_attr(not(feature = "compact-mul"), inline(always))]
+fn mul_raw_armv6m(a: i32, b: i32) -> i32 {
+    mul_raw_limbs(a, b)
 }
 
 impl Div for Fixed32 {
@@ -1228,18 +1329,29 @@ mod tests {
         }
     }
 
-    /// The Armv6-M product and the portable one give the same bits, and both
-    /// match the exact product rounded half up, on edge cases and millions
-    /// of seeded pairs (including i32::MIN raws, which `from_bits` never
-    /// lets through, and pairs near the saturation threshold).
+    /// The exact product rounded half up and clamped, from `i128`.
+    fn mul_reference(a: i32, b: i32) -> i32 {
+        clamp((a as i128 * b as i128 + (1 << (FRAC - 1))).div_euclid(1 << FRAC))
+    }
+
+    /// All three products (64-bit host, two words, Armv6-M limbs) against
+    /// the exact reference.
+    fn check_mul(a: i32, b: i32) {
+        let want = mul_reference(a, b);
+        assert_eq!(mul_raw_native(a, b), want, "{a} * {b}");
+        assert_eq!(mul_raw_words(a, b), want, "{a} * {b} (words)");
+        assert_eq!(mul_raw_limbs(a, b), want, "{a} * {b} (limbs)");
+    }
+
+    /// The Armv6-M product, the two-word one and the portable one give the
+    /// same bits, and all match the exact product rounded half up, on edge
+    /// cases and millions of seeded pairs (including i32::MIN raws, which
+    /// `from_bits` never lets through, and pairs near the saturation
+    /// threshold).
     #[test]
     fn mul_variants_agree_and_round_half_up() {
         let mut rng = Rng(0x5EED);
-        let check = |a: i32, b: i32| {
-            let want = clamp((a as i128 * b as i128 + (1 << (FRAC - 1))).div_euclid(1 << FRAC));
-            assert_eq!(mul_raw_native(a, b), want, "{a} * {b}");
-            assert_eq!(mul_raw_limbs(a, b), want, "{a} * {b} (limbs)");
-        };
+        let check = check_mul;
         let edges = [
             0,
             1,
@@ -1259,6 +1371,23 @@ mod tests {
             0xFFFF,
             0x10000,
             -0x10000,
+            // Limb boundaries: the low limb's top bit, the high limb's
+            // extremes.
+            0x7FFF,
+            0x8000,
+            -0x8000,
+            0x7FFF_8000,
+            -0x7FFF_8000,
+            0x7FFF_0000,
+            0x8000_FFFFu32 as i32,
+            // ±64 and ±2 (their product is the first past the fast path),
+            // and their neighbours.
+            1 << 30,
+            -(1 << 30),
+            (1 << 30) - 1,
+            1 - (1 << 30),
+            2 * RAW_ONE,
+            -2 * RAW_ONE,
         ];
         for &a in &edges {
             for &b in &edges {
@@ -1273,6 +1402,35 @@ mod tests {
         assert_eq!((Fixed32::from_bits(-1) * Fixed32::HALF).to_bits(), 0);
         assert_eq!((Fixed32::from_bits(3) * Fixed32::HALF).to_bits(), 2);
         assert_eq!((Fixed32::from_bits(-3) * Fixed32::HALF).to_bits(), -1);
+    }
+
+    /// Products next to every threshold of the two-word rounding: ±64 (where
+    /// the fast range test hands over to the exact clamp), ±128 (saturation)
+    /// and exactly −128 (raw `i32::MIN`, which must become `−MAX`), from
+    /// seeded operands of every magnitude and their exact cofactors ± a few
+    /// ulps.
+    #[test]
+    fn mul_is_exact_at_the_rounding_thresholds() {
+        let mut rng = Rng(0x7A6);
+        // −128 exactly: −2³¹ raw.
+        assert_eq!(mul_reference(-(1 << 30), 2 * RAW_ONE), RAW_MIN);
+        check_mul(-(1 << 30), 2 * RAW_ONE);
+        check_mul(1 << 30, -2 * RAW_ONE);
+        for target in [-128i64, -64, 64, 128] {
+            let product = target << (2 * FRAC); // the exact a·b wanted
+            for _ in 0..200_000 {
+                // |a| from 2^(FRAC−4) up, so that the cofactor fits.
+                let a = (rng.u32() >> (rng.u32() % 8)) as i32 | (1 << (FRAC - 4));
+                let a = if rng.u32() & 1 == 0 { a } else { -a };
+                let b = product / a as i64;
+                for d in -3..=3 {
+                    if let Ok(b) = i32::try_from(b + d) {
+                        check_mul(a, b);
+                        check_mul(b, a);
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -43,17 +43,32 @@ where
     D: DrawTarget,
     D::Color: FromRgb8,
 {
+    let renderer = demo_renderer::<S>(slot)?;
+    let mut stats = RayStats::default();
+    renderer.draw_bands::<W, D>(target, top_left, band, DITHER, &mut stats).map_err(draw_failure)?;
+    Ok(stats)
+}
+
+/// What a failed `draw_bands` means for the firmware.
+pub(crate) fn draw_failure<E>(e: DrawError<E>) -> Failure {
+    match e {
+        DrawError::BufferTooSmall(b) => Failure::Buffer(b),
+        DrawError::Target(_) => Failure::Target,
+    }
+}
+
+/// Builds the core's demo scene for scalar `S` in `slot` (see
+/// [`render_demo_into`]) and returns a renderer of it at
+/// [`IMAGE_WIDTH`](crate::IMAGE_WIDTH)×[`IMAGE_HEIGHT`](crate::IMAGE_HEIGHT),
+/// which borrows the scene from `slot`.
+pub fn demo_renderer<S: SlotScalar>(slot: &mut SceneSlot) -> Result<Renderer<'_, S>, Failure> {
     let (scene, described) = S::empty(slot);
     let frame = build_demo_scene_for(scene, described).map_err(Failure::Scene)?;
     let camera = demo_camera_for::<S>(&frame, crate::IMAGE_WIDTH, crate::IMAGE_HEIGHT).map_err(Failure::Camera)?;
+    // Built: from here on the scene is only read, for as long as `slot` is lent.
+    let scene = &*scene;
     let tracer: Tracer<'_, S> = Tracer::new(scene.view(), TraceSettings::default()).map_err(Failure::Trace)?;
-    let renderer = Renderer::new(tracer, camera);
-    let mut stats = RayStats::default();
-    renderer.draw_bands::<W, D>(target, top_left, band, DITHER, &mut stats).map_err(|e| match e {
-        DrawError::BufferTooSmall(b) => Failure::Buffer(b),
-        DrawError::Target(_) => Failure::Target,
-    })?;
-    Ok(stats)
+    Ok(Renderer::new(tracer, camera))
 }
 
 /// The dither of every RGB565 pixel drawn: the one the checksums use.

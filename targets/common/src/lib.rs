@@ -20,6 +20,7 @@
 
 pub mod console;
 pub mod draw;
+pub mod dual;
 #[cfg(feature = "panel")]
 pub mod panel;
 #[cfg(feature = "panel")]
@@ -134,8 +135,12 @@ pub enum Failure {
     Trace(TraceError),
     /// The band buffer holds less than one row.
     Buffer(BufferTooSmall),
-    /// The draw target (the display) returned an error.
+    /// The draw target (the display) returned an error, or the image does
+    /// not lie inside it (the two-core frame does not clip).
     Target,
+    /// The other core failed, or handed over a band out of turn
+    /// ([`dual`]).
+    Peer,
 }
 
 impl Failure {
@@ -147,11 +152,12 @@ impl Failure {
             Failure::Trace(_) => "tracer",
             Failure::Buffer(_) => "band buffer",
             Failure::Target => "display",
+            Failure::Peer => "other core",
         }
     }
 }
 
-pub use draw::{render_demo, render_demo_into, ChecksumPanel, Probe};
+pub use draw::{demo_renderer, render_demo, render_demo_into, ChecksumPanel, Probe};
 
 /// [`render_demo`] timed by `clock` (scene build, render and checksum
 /// fold; not the report), then [`report_render`] (or [`report_failure`])

@@ -8,7 +8,8 @@
 //! `targets/checksums.txt` records (`rgb565-bayer4`); the host tests below
 //! check that on a mock panel. The 80 columns to its right hold the label.
 
-use crate::draw::render_demo_into;
+use crate::draw::{demo_renderer, render_demo_into};
+use crate::dual::{core0_bands, Peer};
 use crate::timing::{measure, Clock};
 use crate::{console, Failure, SceneSlot, SlotScalar, IMAGE_HEIGHT, IMAGE_WIDTH};
 use embedded_graphics::image::GetPixel;
@@ -17,7 +18,7 @@ use embedded_graphics::mono_font::MonoFont;
 use embedded_graphics::pixelcolor::{BinaryColor, Rgb565, RgbColor};
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
-use raypack::render::Rgb8;
+use raypack::render::{Renderer, Rgb8};
 use raypack::trace::RayStats;
 
 /// Panel width in pixels (landscape).
@@ -59,6 +60,37 @@ where
     display.clear(Rgb565::BLACK).map_err(|_| Failure::Target)?;
     let rate = clock.rate();
     let (r, ticks) = measure(clock, || render_demo_into::<S, W, D>(slot, band, display, IMAGE_TOP_LEFT));
+    let frame = Frame { micros: rate.micros(ticks), rays: r? };
+    draw_label(display, scalar, &frame).map_err(|_| Failure::Target)?;
+    Ok(frame)
+}
+
+/// [`show_frame`] with the image rendered by two cores ([`crate::dual`]):
+/// clears `display`, builds the demo scene in `slot`, calls `start_core1`
+/// with the renderer (it starts the other core on
+/// [`core1_bands`](crate::dual::core1_bands) and returns this core's end of
+/// the link), renders this core's bands through `band` and sends all bands
+/// to the panel at [`IMAGE_TOP_LEFT`] ([`core0_bands`]), timed by `clock`
+/// from the build to the last band; then the label. The panel receives
+/// what [`show_frame`] sends (host-tested down to the SPI bytes).
+pub fn show_frame_dual<'s, S: SlotScalar, const W: usize, D, P: Peer>(
+    display: &mut D,
+    clock: &mut impl Clock,
+    scalar: &str,
+    slot: &'s mut SceneSlot,
+    band: &mut [Rgb8],
+    start_core1: impl FnOnce(Renderer<'s, S>) -> Result<P, Failure>,
+) -> Result<Frame, Failure>
+where
+    D: DrawTarget<Color = Rgb565>,
+{
+    display.clear(Rgb565::BLACK).map_err(|_| Failure::Target)?;
+    let rate = clock.rate();
+    let (r, ticks) = measure(clock, || {
+        let renderer = demo_renderer::<S>(slot)?;
+        let mut peer = start_core1(renderer)?;
+        core0_bands::<S, W, D>(&renderer, display, IMAGE_TOP_LEFT, band, &mut peer)
+    });
     let frame = Frame { micros: rate.micros(ticks), rays: r? };
     draw_label(display, scalar, &frame).map_err(|_| Failure::Target)?;
     Ok(frame)

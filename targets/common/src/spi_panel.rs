@@ -107,7 +107,9 @@ impl<SPI: SpiDevice, DC: OutputPin, const B: usize> Interface for PanelSpi<SPI, 
 mod tests {
     use super::*;
     use crate::draw::render_demo_into;
-    use crate::panel::{show_frame, IMAGE_TOP_LEFT, PANEL_HEIGHT, PANEL_WIDTH};
+    use crate::dual::tests::thread_link;
+    use crate::dual::{core1_bands, BAND_PIXELS, BAND_ROWS};
+    use crate::panel::{show_frame, show_frame_dual, IMAGE_TOP_LEFT, PANEL_HEIGHT, PANEL_WIDTH};
     use crate::tests::{recorded, Fnv};
     use crate::timing::{Clock, TickRate};
     use crate::{SceneSlot, IMAGE_HEIGHT, IMAGE_WIDTH};
@@ -231,6 +233,64 @@ mod tests {
         let w = wire.borrow();
         let clear = w.commands.iter().find(|(c, _)| *c == RAMWR).unwrap();
         assert_eq!(clear.1.len() as u32, 2 * PANEL_WIDTH * PANEL_HEIGHT);
+    }
+
+    /// The Pico's two-core frame (`show_frame_dual`, core 1 on a second
+    /// host thread) puts the very bytes on the wire that the one-core frame
+    /// does: every command and every data byte after the panel's set-up,
+    /// the clear, the image's address windows and pixels, and the label.
+    #[test]
+    fn two_cores_send_the_panel_the_same_bytes_as_one() {
+        struct Counter(u64);
+        impl Clock for Counter {
+            fn now(&mut self) -> u64 {
+                self.0 += 7;
+                self.0
+            }
+            fn rate(&self) -> TickRate {
+                TickRate::from_hz(1_000_000)
+            }
+        }
+        let frame_bytes = |two_cores: bool| {
+            let wire = Rc::new(RefCell::new(Wire::default()));
+            let mut display = panel(&wire);
+            let init_commands = wire.borrow().commands.len();
+            let mut scene = Box::new(SceneSlot::new());
+            let mut band = vec![[0u8; 3]; BAND_PIXELS];
+            let frame = if two_cores {
+                let (peer, mut courier) = thread_link(BAND_PIXELS);
+                std::thread::scope(|s| {
+                    show_frame_dual::<Fixed32, 1, _, _>(
+                        &mut display,
+                        &mut Counter(0),
+                        "fixed32",
+                        &mut scene,
+                        &mut band,
+                        |r| {
+                            s.spawn(move || core1_bands::<Fixed32, 1>(&r, &mut courier));
+                            Ok(peer)
+                        },
+                    )
+                })
+            } else {
+                show_frame::<Fixed32, 1, _>(&mut display, &mut Counter(0), "fixed32", &mut scene, &mut band)
+            };
+            assert_eq!(frame.unwrap().rays.total(), recorded("fixed32", "rays") as u64);
+            let sent = wire.borrow().commands[init_commands..].to_vec();
+            sent
+        };
+        let (one, two) = (frame_bytes(false), frame_bytes(true));
+        let image: Vec<u8> = two
+            .iter()
+            .filter(|(c, _)| *c == RAMWR)
+            .skip(1)
+            .take((IMAGE_HEIGHT / BAND_ROWS) as usize)
+            .flat_map(|(_, d)| d.clone())
+            .collect();
+        let mut h = Fnv::new();
+        h.write(&image);
+        assert_eq!(h.finish(), recorded("fixed32", "rgb565-bayer4"));
+        assert!(one == two, "the two-core frame sent other bytes ({} and {} commands)", one.len(), two.len());
     }
 
     #[test]

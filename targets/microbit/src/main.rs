@@ -1,123 +1,32 @@
-//! raypack on a Cortex-M0 with 16 KiB of RAM (QEMU `microbit`): the demo
-//! scene at 160×128 in soft-float single precision and then in Q8.24 fixed
-//! point, one ray at a time (width 1), one image row per band, reported over
-//! semihosting.
+//! raypack on a Cortex-M0 with 16 KiB of RAM (QEMU `microbit`), the test
+//! image: the demo scene at 160×128 in soft-float single precision and then
+//! in Q8.24 fixed point, one ray at a time (width 1), one image row per
+//! band, reported over semihosting. (`raypack-microbit-fixed32` is the
+//! image a user would flash: `fixed32` only.)
 //!
-//! Memory: each scene is built in place in one `static` slot (never copied
-//! on the stack; the fixed-point scene reuses the f32 scene's bytes), the
-//! band is one row (480 bytes); statics and the stack together must fit in
-//! the 16 KiB, and the report says how much of it they took.
+//! Each frame is also timed band by band as the Raspberry Pi Pico firmware
+//! splits it between its two cores (`raypack_firmware_common::dual`):
+//! `SCALAR.core0.instructions` and `SCALAR.core1.instructions` are what each
+//! core of a two-core part retires for its bands (the scene build
+//! included, which both wait for), `SCALAR.per-core.instructions` the
+//! larger, `SCALAR.lockstep.instructions` the frame when the cores go band
+//! pair by band pair (the Pico's hand-over).
 #![no_std]
 #![no_main]
 
-use core::ptr::{addr_of, addr_of_mut};
-use cortex_m_rt::{entry, exception, ExceptionFrame};
-use cortex_m_semihosting::{debug, hio};
-use raypack::render::Rgb8;
-use raypack_firmware_common::timing::systick::{self, SysTick};
-use raypack_firmware_common::{self as fw, stack, Console, Fixed32, SceneSlot};
+mod board;
 
-/// Packet width: the scalar path (no SIMD, and the smallest stack).
-const WIDTH: usize = 1;
-/// Rows per band.
-const BAND_ROWS: usize = 1;
-
-/// The processor clock QEMU gives this machine (its `cpuclk`), which
-/// SysTick counts with CLKSOURCE = processor clock.
-const CPU_HZ: u32 = 16_000_000;
-
-static mut SCENE: SceneSlot = SceneSlot::new();
-static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
-
-extern "C" {
-    /// Top of the stack (cortex-m-rt): the end of RAM.
-    static _stack_start: u32;
-    /// Lowest address the stack may use: the end of the statics.
-    static _stack_end: u32;
-    /// Start of `.data`, the first static in RAM.
-    static __sdata: u32;
-}
-
-/// Semihosting standard output.
-struct Semihosting(Option<hio::HostStream>);
-
-impl Console for Semihosting {
-    fn write_str(&mut self, s: &str) {
-        if let Some(out) = self.0.as_mut() {
-            let _ = out.write_all(s.as_bytes());
-        }
-    }
-}
-
-fn console() -> Semihosting {
-    Semihosting(hio::hstdout().ok())
-}
-
-fn exit(ok: bool) -> ! {
-    debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
-    loop {
-        cortex_m::asm::bkpt();
-    }
-}
+use board::WIDTH;
+use cortex_m_rt::entry;
+use raypack_firmware_common::dual::run_shares;
+use raypack_firmware_common::Fixed32;
 
 #[entry]
 fn main() -> ! {
-    let top = addr_of!(_stack_start) as usize;
-    let bottom = addr_of!(_stack_end) as usize;
-    // SAFETY: `[bottom, sp)` is unused stack: above the statics, below us.
-    unsafe { stack::paint(bottom as *mut u32) };
-
-    let mut con = console();
-    fw::report_start(&mut con, &fw::Board { name: "microbit", cpu: "cortex-m0 (soft-float f32)" });
-
-    // SAFETY: nothing else uses SysTick; the SysTick handler below calls
-    // `systick::on_wrap`.
-    let mut clock = unsafe { SysTick::start(CPU_HZ) };
-    let clock_ok = fw::check_clock(&mut con, &mut clock, "systick");
-
-    // SAFETY: the only references to these statics, taken once.
-    let (slot, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    let ok_f32 = fw::run::<f32, WIDTH>(&mut con, &mut clock, "f32", slot, band);
+    let b = board::start("cortex-m0 (soft-float f32)");
+    let (mut con, mut clock) = (b.con, b.clock);
+    let ok_f32 = run_shares::<f32, WIDTH>(&mut con, &mut clock, "f32", b.slot, b.band);
     // The same scene again in Q8.24 fixed point, in the same memory.
-    let ok_fixed = fw::run::<Fixed32, WIDTH>(&mut con, &mut clock, "fixed32", slot, band);
-    let ok = ok_f32 && ok_fixed && clock_ok;
-
-    // SAFETY: `[bottom, top)` is the painted stack region.
-    let used = unsafe { stack::high_water(bottom as *const u32, top as *const u32) };
-    let static_ram = bottom.saturating_sub(addr_of!(__sdata) as usize);
-    fw::report_footprint(&mut con, &fw::Footprint { stack_used: used, stack_watched: top.saturating_sub(bottom), static_ram });
-    con.write_str(if ok { "result=ok\n" } else { "result=FAILED\n" });
-    exit(ok)
-}
-
-/// Counts SysTick wraps for the frame-time clock.
-#[exception]
-fn SysTick() {
-    systick::on_wrap();
-}
-
-#[exception]
-unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
-    let mut con = console();
-    con.write_str("result=FAILED HardFault at pc=");
-    con.write_hex32(frame.pc());
-    con.write_str("\n");
-    exit(false)
-}
-
-#[exception]
-unsafe fn DefaultHandler(irqn: i16) {
-    let mut con = console();
-    con.write_str("result=FAILED unexpected exception ");
-    con.write_u32(irqn as u16 as u32);
-    con.write_str("\n");
-    exit(false)
-}
-
-#[cfg(not(feature = "panic-never"))]
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    let mut con = console();
-    con.write_str("result=FAILED panic\n");
-    exit(false)
+    let ok_fixed = run_shares::<Fixed32, WIDTH>(&mut con, &mut clock, "fixed32", b.slot, b.band);
+    board::finish(con, ok_f32 && ok_fixed && b.clock_ok)
 }

@@ -1,14 +1,16 @@
-//! raypack on a Raspberry Pi Pico (RP2040: Cortex-M0+, no FPU) driving a
-//! Pimoroni Pico Display Pack (1.14" 240×135 IPS, ST7789, SPI): the demo
-//! scene rendered band by band straight into the panel, no framebuffer, by
-//! the render loop the QEMU boards run and check
-//! (`raypack_firmware_common::panel::show_frame` over `render_demo_into`),
-//! then the frame time, from the RP2040's microsecond timer, beside the
-//! image.
+//! raypack on a Raspberry Pi Pico (RP2040: two Cortex-M0+ cores, no FPU)
+//! driving a Pimoroni Pico Display Pack (1.14" 240×135 IPS, ST7789, SPI):
+//! the demo scene rendered band by band straight into the panel, no
+//! framebuffer, on both cores (`raypack_firmware_common::dual`: bands of 8
+//! rows alternate between the cores, each core renders into its own band
+//! buffer, core 0 sends every band to the panel in image order), then the
+//! frame time, from the RP2040's microsecond timer, beside the image.
 //!
-//! Everything here is pin and peripheral set-up; the frame itself is
-//! common code, host-tested against `targets/checksums.txt`. The on-board
-//! LED (GP25) lights if the frame could not be shown.
+//! Everything here is pin and peripheral set-up and the link between the
+//! cores (the SIO FIFOs); the frame itself is common code
+//! (`panel::show_frame_dual`), host-tested down to the SPI bytes: the same
+//! bytes as one core's frame, whose image is `targets/checksums.txt`'s.
+//! The on-board LED (GP25) lights if the frame could not be shown.
 //!
 //! Not run by `scripts/firmware.sh` (QEMU has no RP2040 machine): it is
 //! built and proved panic-free there, and flashed by hand (docs/firmware.md).
@@ -16,20 +18,25 @@
 #![no_main]
 
 use core::ptr::{addr_of, addr_of_mut};
+use core::sync::atomic::{compiler_fence, Ordering};
 use embedded_hal::digital::OutputPin;
 use embedded_hal_bus::spi::ExclusiveDevice;
 use mipidsi::models::ST7789;
 use mipidsi::options::{ColorInversion, Orientation, Rotation};
 use mipidsi::Builder;
-use raypack::render::Rgb8;
-use raypack_firmware_common::timing::{Clock, TickRate};
+use raypack::render::{Renderer, Rgb8};
+use raypack::trace::RayStats;
+use raypack_firmware_common::dual::{self, Courier, Peer, BAND_PIXELS, DONE};
 use raypack_firmware_common::spi_panel::PanelSpi;
-use raypack_firmware_common::{self as fw, panel, stack, ScalarName};
+use raypack_firmware_common::timing::{Clock, TickRate};
+use raypack_firmware_common::{self as fw, panel, stack, Failure, ScalarName};
 use rp2040_hal::clocks::{ClocksManager, InitError};
 use rp2040_hal::fugit::RateExtU32;
 use rp2040_hal::gpio::{bank0, FunctionSioOutput, FunctionSpi, Pin, PullDown, PullNone};
+use rp2040_hal::multicore::{Multicore, Stack};
 use rp2040_hal::pac;
 use rp2040_hal::pll::{common_configs::PLL_USB_48MHZ, setup_pll_blocking, PLLConfig};
+use rp2040_hal::sio::SioFifo;
 use rp2040_hal::xosc::setup_xosc_blocking;
 use rp2040_hal::{Clock as _, Sio, Spi, Timer, Watchdog};
 
@@ -40,9 +47,6 @@ type PanelScalar = raypack::Fixed32;
 /// Packet width: one ray at a time, as on the `microbit` QEMU board (the
 /// same Armv6-M code, so its instruction counts apply).
 const WIDTH: usize = 1;
-/// Rows per band: 8 rows of 160 pixels (3 840 bytes), one SPI address
-/// window and pixel burst per band.
-const BAND_ROWS: usize = 8;
 
 /// The Pico's crystal.
 const XOSC_HZ: u32 = 12_000_000;
@@ -80,7 +84,93 @@ type MosiPin = Pin<bank0::Gpio19, FunctionSpi, PullNone>;
 pub static BOOT2_FIRMWARE: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 
 static mut SCENE: fw::SceneSlot = fw::SceneSlot::new();
-static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
+/// Core 0's band buffer: 8 rows of 160 pixels (3 840 bytes), one SPI
+/// address window and pixel burst per band.
+static mut BAND0: [Rgb8; BAND_PIXELS] = [[0; 3]; BAND_PIXELS];
+/// Core 1's band buffer: written by core 1 between hand-overs, read by
+/// core 0 during one (the SIO FIFO messages order the two).
+static mut BAND1: [Rgb8; BAND_PIXELS] = [[0; 3]; BAND_PIXELS];
+/// Core 1's ray counts: written by core 1 before it sends `DONE`, read by
+/// core 0 after.
+static mut CORE1_RAYS: RayStats = RayStats {
+    primary: 0,
+    shadow: 0,
+    reflected: 0,
+    refracted: 0,
+    primary_packets: 0,
+    shadow_packets: 0,
+    reflected_packets: 0,
+    refracted_packets: 0,
+};
+/// Core 1's stack: 8 KiB (the render needs about 3; painted and measured
+/// on the QEMU boards).
+static CORE1_STACK: Stack<2048> = Stack::new();
+
+/// What core 0 sends back when it is done with core 1's buffer.
+const TAKEN: u32 = 0;
+
+/// Core 1's end of the link: its buffer `BAND1` and the SIO FIFO. Each
+/// core sees its own ends of the two FIFOs (one per direction) at the same
+/// SIO addresses.
+struct FifoCourier<'f>(&'f mut SioFifo);
+
+impl Courier for FifoCourier<'_> {
+    fn with_buffer<R>(&mut self, f: impl FnOnce(&mut [Rgb8]) -> R) -> R {
+        // SAFETY: between hand-overs core 0 does not touch BAND1, and this
+        // reference ends before the next hand-over.
+        f(unsafe { &mut *addr_of_mut!(BAND1) })
+    }
+    fn hand_over(&mut self, message: u32) {
+        // The band's pixels are written before the message goes out (the
+        // RP2040 has no data cache and writes in order; the fence keeps the
+        // compiler from moving them), and read by core 0 before it answers.
+        compiler_fence(Ordering::SeqCst);
+        self.0.write_blocking(message);
+        let _taken = self.0.read_blocking();
+        compiler_fence(Ordering::SeqCst);
+    }
+    fn finish(&mut self, stats: RayStats) {
+        // SAFETY: core 0 reads CORE1_RAYS only after DONE, sent below.
+        unsafe { addr_of_mut!(CORE1_RAYS).write_volatile(stats) };
+        compiler_fence(Ordering::SeqCst);
+        self.0.write_blocking(DONE);
+    }
+}
+
+/// Core 0's end of the link.
+struct FifoPeer<'f>(&'f mut SioFifo);
+
+impl Peer for FifoPeer<'_> {
+    fn receive<R>(&mut self, f: impl FnOnce(u32, &[Rgb8]) -> R) -> R {
+        let message = self.0.read_blocking();
+        compiler_fence(Ordering::SeqCst);
+        // SAFETY: core 1 has handed BAND1 over and waits for TAKEN before
+        // it writes it again; this reference ends before TAKEN goes out.
+        let r = f(message, unsafe { &*addr_of!(BAND1) });
+        compiler_fence(Ordering::SeqCst);
+        self.0.write_blocking(TAKEN);
+        r
+    }
+    fn finish(&mut self) -> Result<RayStats, Failure> {
+        if self.0.read_blocking() != DONE {
+            return Err(Failure::Peer);
+        }
+        compiler_fence(Ordering::SeqCst);
+        // SAFETY: core 1 wrote CORE1_RAYS before DONE and no longer touches it.
+        Ok(unsafe { addr_of!(CORE1_RAYS).read_volatile() })
+    }
+}
+
+/// Core 1's program: its bands of the frame, then back to sleep (in
+/// rp2040-hal's spawn wrapper).
+fn core1_main(renderer: Renderer<'static, PanelScalar>) {
+    // SAFETY: core 1 uses only its own ends of the SIO FIFOs (per-core
+    // registers); core 0's `Sio` keeps off them while core 1 runs, except
+    // through `FifoPeer`, which is the other end.
+    let pac = unsafe { pac::Peripherals::steal() };
+    let mut sio = Sio::new(pac.SIO);
+    dual::core1_bands::<PanelScalar, WIDTH>(&renderer, &mut FifoCourier(&mut sio.fifo));
+}
 
 /// The RP2040 timer: 64 bits of microseconds.
 struct Micros(Timer);
@@ -121,7 +211,7 @@ fn run(mut pac: pac::Peripherals) -> bool {
     let Ok(clocks) = init_clocks(pac.XOSC, pac.CLOCKS, pac.PLL_SYS, pac.PLL_USB, &mut pac.RESETS, &mut watchdog) else {
         return false;
     };
-    let sio = Sio::new(pac.SIO);
+    let mut sio = Sio::new(pac.SIO);
     let pins = rp2040_hal::gpio::Pins::new(pac.IO_BANK0, pac.PADS_BANK0, sio.gpio_bank0, &mut pac.RESETS);
     let timer = Timer::new(pac.TIMER, &mut pac.RESETS, &clocks);
 
@@ -161,9 +251,31 @@ fn run(mut pac: pac::Peripherals) -> bool {
     }
 
     // SAFETY: the only references to these statics, taken once.
-    let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
+    let (scene, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND0)) };
     let mut clock = Micros(timer);
-    if panel::show_frame::<PanelScalar, WIDTH, _>(&mut display, &mut clock, PanelScalar::NAME, scene, band).is_err() {
+    let (psm, ppb, fifo) = (&mut pac.PSM, &mut pac.PPB, &mut sio.fifo);
+    // Once the scene is built: core 1 starts on its bands with a copy of the
+    // renderer (which only reads the scene, in a static, from then on).
+    let start_core1 = move |renderer: Renderer<'static, PanelScalar>| {
+        let fifo = fifo; // (moved in: the link outlives this call)
+        {
+            let mut cores = Multicore::new(&mut *psm, &mut *ppb, &mut *fifo);
+            let core1 = cores.cores().get_mut(1).ok_or(Failure::Peer)?;
+            let stack = CORE1_STACK.take().ok_or(Failure::Peer)?;
+            core1.spawn(stack, move || core1_main(renderer)).map_err(|_| Failure::Peer)?;
+        }
+        Ok(FifoPeer(fifo))
+    };
+    if panel::show_frame_dual::<PanelScalar, WIDTH, _, _>(
+        &mut display,
+        &mut clock,
+        PanelScalar::NAME,
+        scene,
+        band,
+        start_core1,
+    )
+    .is_err()
+    {
         return false;
     }
     // The stack's high-water mark so far (painted at boot), under the label.
