@@ -10,11 +10,11 @@
 //! Packets cover adjacent pixels: 1×1 for width 1, 2×2 for 4, 4×2 for 8,
 //! 4×4 for 16 (see [`packet_shape`]).
 
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::fixed_range::{self, RangeError, RangeItem};
 use crate::geom::ray::RayPacket;
-use crate::num::scalar::Scalar;
 use crate::geom::vec3::Vec3;
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// Why a camera could not be built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,18 +61,7 @@ pub const fn packet_shape(w: usize) -> (u32, u32) {
     }
 }
 
-/// A pixel rectangle: columns `x .. x + w`, rows `y .. y + h`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Rect {
-    /// First column.
-    pub x: u32,
-    /// First row.
-    pub y: u32,
-    /// Width in pixels.
-    pub w: u32,
-    /// Height in pixels.
-    pub h: u32,
-}
+pub use crate::geom::rect::Rect;
 
 /// A pinhole camera for an image of a given size.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,8 +1,8 @@
 //! The interface every accelerator implements, and the result of a
 //! closest-hit query.
 
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::RayPacket;
+use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 

@@ -4,8 +4,8 @@
 //! no tree code in the image).
 
 use super::accelerator::{Accelerator, Hit};
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::RayPacket;
+use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 
@@ -113,8 +113,8 @@ pub(crate) fn transmittance<S: Scalar, const W: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Material, Scene};
     use crate::geom::vec3::Vec3;
+    use crate::scene::{Material, Scene};
 
     type Small = Scene<f32, 4, 8, 2, 1>;
 

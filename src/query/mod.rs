@@ -22,12 +22,14 @@
 //! primitives at the same distance go to the lower index, and transmissive
 //! occluders multiply the light in primitive order.
 
+mod accel_choice;
 mod accelerator;
 mod brute;
 pub mod bvh;
-mod accel_choice;
 
+pub use accel_choice::AccelChoice;
 pub use accelerator::{Accelerator, Hit, PacketJob, SceneMismatch};
 pub use brute::BruteForce;
 pub use bvh::{BuildSettings, Bvh, BvhError, BvhStats, BvhView};
-pub use accel_choice::AccelChoice;
+#[cfg(feature = "std")]
+pub use bvh::{HeapBvh, HeapBvhError};

@@ -24,8 +24,8 @@
 
 use crate::geom::camera::{packet_shape, Camera, Rect};
 use crate::num::lanes::{Lanes, Mask};
-use crate::query::{Accelerator, BruteForce};
 use crate::num::scalar::Scalar;
+use crate::query::{Accelerator, BruteForce};
 use crate::trace::{RayStats, Tracer};
 
 /// One 8-bit RGB pixel.

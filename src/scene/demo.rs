@@ -3,10 +3,10 @@
 
 use crate::geom::camera::{Camera, CameraError};
 use crate::geom::primitives::Quadric;
-use crate::num::scalar::Scalar;
-use crate::scene::{Material, Scene, SceneError};
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
+use crate::num::scalar::Scalar;
+use crate::scene::{Material, Scene, SceneError};
 
 /// Capacity type of the demo scene.
 pub type DemoScene<S> = Scene<S, 16, 32, 8, 2>;
@@ -92,15 +92,13 @@ pub fn build_demo_scene_for<S: Scalar>(
     scene: &mut DemoScene<S>,
     described: &mut DemoScene<f32>,
 ) -> Result<Similarity, SceneError> {
-    let Some(half) = S::SCENE_FRAME else {
+    if S::SCENE_FRAME.is_none() {
         build_demo_scene(scene)?;
         return Ok(Similarity::IDENTITY);
-    };
+    }
     build_demo_scene(described)?;
     let (e, _, _, _) = DEMO_VIEW;
-    let frame = described.view().fitting_frame(Some(Vec3::new(e[0], e[1], e[2])), half);
-    scene.add_similar(&described.view(), &frame)?;
-    Ok(frame)
+    scene.add_in_frame(&described.view(), Some(Vec3::new(e[0], e[1], e[2])))
 }
 
 /// The demo camera in `frame` (what [`build_demo_scene_for`] returned).

@@ -70,10 +70,10 @@
 
 use crate::geom::camera::{Camera, CameraError};
 use crate::geom::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Quadric, Shape, Sphere};
-use crate::num::scalar::Scalar;
-use crate::scene::{CapacityError, CapacityKind, Material, Scene, SceneError};
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
+use crate::num::scalar::Scalar;
+use crate::scene::{CapacityError, CapacityKind, Material, MemoryError, Pool, SceneError, SceneStore, Storage};
 
 /// A short copy of an offending piece of input (up to 24 bytes, cut at a
 /// character boundary), so errors can quote it without borrowing the text.
@@ -188,6 +188,8 @@ pub enum NffErrorKind {
     /// A coordinate is beyond what the scalar type represents safely
     /// (fixed point; see [`crate::geom::fixed_range`]).
     OutOfRange(crate::geom::fixed_range::RangeError),
+    /// The memory ran out while a heap scene grew (`std` only).
+    OutOfMemory(MemoryError),
 }
 
 impl core::fmt::Display for NffErrorKind {
@@ -221,6 +223,7 @@ impl core::fmt::Display for NffErrorKind {
             Geometry { what, error } => write!(f, "invalid {what}: {error}"),
             InvalidMaterial(why) => write!(f, "invalid material: {why}"),
             OutOfRange(r) => r.fmt(f),
+            OutOfMemory(m) => write!(f, "scene too large for the memory: {m}"),
         }
     }
 }
@@ -371,39 +374,40 @@ trait Sink<S> {
     fn add_polygon_from_pool(&mut self, first: u32, count: u32, patch: bool, material: u16) -> Result<(), SceneError>;
 }
 
-impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> Sink<S> for Scene<S, P, V, M, L> {
+impl<S: Scalar, St: Storage<S>> Sink<S> for SceneStore<S, St> {
     fn set_background(&mut self, c: Vec3<S>) -> Result<(), SceneError> {
-        Scene::set_background(self, c)
+        SceneStore::set_background(self, c)
     }
     fn add_material(&mut self, m: Material<S>) -> Result<u16, SceneError> {
-        Scene::add_material(self, m)
+        SceneStore::add_material(self, m)
     }
     fn add_light(&mut self, p: Vec3<S>, c: Vec3<S>) -> Result<(), SceneError> {
-        Scene::add_light(self, p, c)
+        SceneStore::add_light(self, p, c)
     }
     fn add_shape(&mut self, s: Shape<S>, material: u16) -> Result<(), SceneError> {
-        Scene::add_shape(self, s, material).map(|_| ())
+        SceneStore::add_shape(self, s, material).map(|_| ())
     }
     fn polygon_room(&mut self, slots: u64) -> Result<(), SceneError> {
-        if self.len() >= P {
+        let (p, v) = (St::Prims::LIMIT, St::Verts::LIMIT);
+        if self.len() >= p {
             return Err(SceneError::Capacity(CapacityError {
                 kind: CapacityKind::Primitives,
-                capacity: P,
+                capacity: p,
                 needed: self.len() + 1,
             }));
         }
         let needed = self.vertex_count() as u64 + slots;
-        if needed > V as u64 {
+        if needed > v as u64 {
             let needed = usize::try_from(needed).unwrap_or(usize::MAX);
-            return Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Vertices, capacity: V, needed }));
+            return Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Vertices, capacity: v, needed }));
         }
         Ok(())
     }
     fn push_vertex(&mut self, v: Vec3<S>) -> Result<u32, SceneError> {
-        Scene::push_vertex(self, v)
+        SceneStore::push_vertex(self, v)
     }
     fn add_polygon_from_pool(&mut self, first: u32, count: u32, patch: bool, material: u16) -> Result<(), SceneError> {
-        Scene::add_polygon_from_pool(self, first, count, patch, material).map(|_| ())
+        SceneStore::add_polygon_from_pool(self, first, count, patch, material).map(|_| ())
     }
 }
 
@@ -438,10 +442,7 @@ impl Sink<f32> for Discard {
 /// camera, background and counts.
 ///
 /// On error the scene holds the entities before the failing one.
-pub fn parse<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize>(
-    text: &str,
-    scene: &mut Scene<S, P, V, M, L>,
-) -> Result<NffInfo, NffError> {
+pub fn parse<S: Scalar, St: Storage<S>>(text: &str, scene: &mut SceneStore<S, St>) -> Result<NffInfo, NffError> {
     read(text, scene).map_err(|mut e| {
         // Say what the whole file needs, if the rest of it can be counted.
         if let NffErrorKind::Capacity(ref mut c) = e.kind {
@@ -645,6 +646,7 @@ fn scene_error(line: &Line, what: &'static str, e: SceneError) -> NffError {
         SceneError::Geometry(error) => NffErrorKind::Geometry { what, error },
         SceneError::InvalidMaterial(why) => NffErrorKind::InvalidMaterial(why),
         SceneError::OutOfRange(r) => NffErrorKind::OutOfRange(r),
+        SceneError::OutOfMemory(m) => NffErrorKind::OutOfMemory(m),
         // The reader only uses material indices it was given.
         SceneError::UnknownMaterial(_) => NffErrorKind::NoMaterial(what),
     };
@@ -1005,6 +1007,7 @@ mod tests {
     extern crate std;
     use super::*;
     use crate::geom::primitives::ShapeKind;
+    use crate::scene::Scene;
     use std::format;
     use std::string::{String, ToString};
 

@@ -14,12 +14,12 @@
 //! depth-first order, lights in scene order), so the result does not depend
 //! on the packet width.
 
-use crate::num::lanes::{Lanes, Mask};
-use crate::query::{Accelerator, BruteForce, Hit, PacketJob, SceneMismatch};
 use crate::geom::ray::RayPacket;
-use crate::num::scalar::Scalar;
-use crate::scene::{Material, Primitive, SceneView};
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
+use crate::query::{Accelerator, BruteForce, Hit, PacketJob, SceneMismatch};
+use crate::scene::{Material, Primitive, SceneView};
 use heapless::Vec as HVec;
 
 /// How rays are traced.

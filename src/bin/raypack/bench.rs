@@ -124,7 +124,7 @@ fn best(v: &[f64]) -> f64 {
     v.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
-fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure> {
+fn bench_scene(args: &BenchArgs, scene: &LoadedScene) -> Result<(), Failure> {
     let info = *scene.info();
     let scalar = info.scalar.name();
     let name = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().replace(' ', "_"));
