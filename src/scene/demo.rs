@@ -103,10 +103,6 @@ pub fn build_demo_scene_for<S: Scalar>(
 
 /// The demo camera in `frame` (what [`build_demo_scene_for`] returned).
 pub fn demo_camera_for<S: Scalar>(frame: &Similarity, width: u32, height: u32) -> Result<Camera<S>, CameraError> {
-    if *frame == Similarity::IDENTITY {
-        return demo_camera(width, height);
-    }
     let (e, a, u, fov) = DEMO_VIEW;
-    let cam = crate::scene::nff::NffCamera { from: e, at: a, up: u, angle: fov, hither: 0.0, width, height };
-    cam.camera_in(frame, width, height)
+    Camera::in_frame(e, a, u, fov, width, height, frame)
 }

@@ -70,7 +70,6 @@
 
 use crate::geom::camera::{Camera, CameraError};
 use crate::geom::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Quadric, Shape, Sphere};
-use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
 use crate::num::scalar::Scalar;
 use crate::scene::{CapacityError, CapacityKind, Material, MemoryError, Pool, SceneError, SceneStore, Storage};
@@ -276,24 +275,6 @@ impl NffCamera {
     pub fn camera<S: Scalar>(&self, width: u32, height: u32) -> Result<Camera<S>, CameraError> {
         let v = |a: [f32; 3]| Vec3::<S>::from_f32(a[0], a[1], a[2]);
         Camera::new(v(self.from), v(self.at), v(self.up), self.angle, width, height)
-    }
-
-    /// The same camera in the frame of `sim` (for a scene converted by
-    /// [`crate::scene::Scene::add_similar`]): the eye moved and scaled, the
-    /// look-at point replaced by the point one unit from the eye in the
-    /// same direction (so it lies near the scene, whatever the file says),
-    /// the up vector unchanged; distances reported in the file's units.
-    pub fn camera_in<S: Scalar>(&self, sim: &Similarity, width: u32, height: u32) -> Result<Camera<S>, CameraError> {
-        let eye = Vec3::new(self.from[0], self.from[1], self.from[2]);
-        let dir = (Vec3::new(self.at[0], self.at[1], self.at[2]) - eye).normalize_or_zero();
-        if dir == Vec3::ZERO {
-            return Err(if eye.is_finite() { CameraError::EyeAtTarget } else { CameraError::NonFinite });
-        }
-        let e: Vec3<f32> = sim.point(eye);
-        let at = e + dir;
-        let c = |v: Vec3<f32>| Vec3::<S>::from_f32(v.x, v.y, v.z);
-        Camera::new(c(e), c(at), c(Vec3::new(self.up[0], self.up[1], self.up[2])), self.angle, width, height)
-            .map(|c| c.with_units(sim.units_per_unit()))
     }
 }
 

@@ -7,6 +7,7 @@
 use super::bands::{render_tiles, Tiling, TILE};
 use super::policy::packet_used;
 use super::{image_size, AccelKind, Error, Image, Options, ScalarKind, DEPTH};
+use crate::geom::camera::Camera;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
 use crate::num::fixed32::Fixed32;
@@ -159,11 +160,8 @@ impl<S: Scalar> Loaded<S> {
     fn render(&self, options: &Options, progress: &(dyn Fn() + Sync)) -> Result<Image, Error> {
         let cam = self.info.nff.camera.ok_or(Error::NoCamera)?;
         let (width, height) = image_size(options.width, options.height, (cam.width, cam.height));
-        let camera = match S::SCENE_FRAME {
-            None => cam.camera::<S>(width, height),
-            Some(_) => cam.camera_in::<S>(&self.frame, width, height),
-        }
-        .map_err(Error::Camera)?;
+        let camera = Camera::<S>::in_frame(cam.from, cam.at, cam.up, cam.angle, width, height, &self.frame)
+            .map_err(Error::Camera)?;
         let region = options.region.unwrap_or(camera.full_rect());
         if !region.inside(camera.full_rect()) {
             return Err(Error::Region { region, size: (width, height) });
