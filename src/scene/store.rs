@@ -496,6 +496,25 @@ impl<S: Scalar, St: Storage<S>> SceneStore<S, St> {
         Ok(n as u32)
     }
 
+    /// Appends `vertices` to the pool and returns the index of the first;
+    /// if one does not fit (a heap pool out of memory), none stays.
+    fn push_vertices(&mut self, vertices: impl Iterator<Item = Vec3<S>>) -> Result<u32, SceneError> {
+        let first = self.verts.len();
+        for v in vertices {
+            if let Err(e) = self.push_vertex(v) {
+                self.verts.truncate_to(first);
+                return Err(e);
+            }
+        }
+        Ok(first as u32)
+    }
+
+    /// Removes the vertices from index `len` on (what a reader streamed
+    /// for a polygon it could not complete).
+    pub(crate) fn truncate_vertices(&mut self, len: usize) {
+        self.verts.truncate_to(len);
+    }
+
     /// Number of vertices in the pool.
     pub fn vertex_count(&self) -> usize {
         self.verts.len()
@@ -538,10 +557,7 @@ impl<S: Scalar, St: Storage<S>> SceneStore<S, St> {
             return Err(GeometryError::TooFewVertices(vertices.len() as u32).into());
         }
         self.check_vertex_room(vertices.len())?;
-        let first = self.verts.len() as u32;
-        for &v in vertices {
-            self.push_vertex(v)?;
-        }
+        let first = self.push_vertices(vertices.iter().copied())?;
         self.add_polygon_from_pool(first, vertices.len() as u32, false, material)
     }
 
@@ -562,13 +578,8 @@ impl<S: Scalar, St: Storage<S>> SceneStore<S, St> {
                 return Err(if n.is_finite() { GeometryError::ZeroLengthAxis } else { GeometryError::NonFinite }.into());
             }
         }
-        let first = self.verts.len() as u32;
-        for &v in vertices {
-            self.push_vertex(v)?;
-        }
-        for n in normals {
-            self.push_vertex(n.normalize_or_zero())?;
-        }
+        let first =
+            self.push_vertices(vertices.iter().copied().chain(normals.iter().map(|n| n.normalize_or_zero())))?;
         self.add_polygon_from_pool(first, vertices.len() as u32, true, material)
     }
 
@@ -907,6 +918,84 @@ mod tests {
         assert_eq!(s.add_polygon(&line, m), Ok(0));
         assert_eq!(s.add_sphere(Vec3::ZERO, 1.0, m), Ok(1));
         assert_eq!(s.degenerate_polygons(), 1);
+    }
+
+    /// A pool that fails as a heap pool does when the allocator refuses
+    /// to grow it: after 3 items.
+    #[derive(Clone)]
+    struct Starved<T>(HVec<T, 3>);
+
+    impl<T> core::ops::Deref for Starved<T> {
+        type Target = [T];
+        fn deref(&self) -> &[T] {
+            &self.0
+        }
+    }
+    impl<T> core::ops::DerefMut for Starved<T> {
+        fn deref_mut(&mut self) -> &mut [T] {
+            &mut self.0
+        }
+    }
+    impl<T: Clone> Pool<T> for Starved<T> {
+        const LIMIT: usize = u32::MAX as usize;
+        fn try_push(&mut self, item: T) -> Result<(), PoolFull> {
+            self.0.push(item).map_err(|_| PoolFull::Memory)
+        }
+        fn truncate_to(&mut self, len: usize) {
+            self.0.truncate(len)
+        }
+    }
+
+    struct StarvedStorage;
+    impl<S: Copy> Storage<S> for StarvedStorage {
+        type Prims = Starved<Primitive<S>>;
+        type Verts = Starved<Vec3<S>>;
+        type Materials = HVec<Material<S>, 4>;
+        type Lights = HVec<Light<S>, 4>;
+    }
+
+    fn starved() -> SceneStore<f32, StarvedStorage> {
+        SceneStore {
+            prims: Starved(HVec::new()),
+            verts: Starved(HVec::new()),
+            materials: HVec::new(),
+            lights: HVec::new(),
+            background: Vec3::ZERO,
+            degenerate_polygons: 0,
+        }
+    }
+
+    #[test]
+    fn memory_that_runs_out_is_an_error_that_says_which_list() {
+        extern crate std;
+        use std::string::ToString;
+        let mut s = starved();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        for i in 0..3 {
+            s.add_sphere(Vec3::new(i as f32, 0.0, 0.0), 1.0, m).unwrap();
+        }
+        let e = s.add_sphere(Vec3::ZERO, 1.0, m).unwrap_err();
+        assert_eq!(e, SceneError::OutOfMemory(MemoryError { kind: CapacityKind::Primitives, needed: 4 }));
+        assert_eq!(e.to_string(), "out of memory for 4 primitives");
+        assert_eq!(s.len(), 3);
+        // A polygon whose vertices do not fit leaves nothing behind.
+        let mut s = starved();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        let quad = [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let e = s.add_polygon(&quad, m).unwrap_err();
+        assert_eq!(e, SceneError::OutOfMemory(MemoryError { kind: CapacityKind::Vertices, needed: 4 }));
+        assert_eq!((s.len(), s.vertex_count()), (0, 0));
+        // The reader reports it on the line of the entity that did not fit.
+        let mut s = starved();
+        let text = "f 1 1 1 1 0 0 0 1\ns 0 0 0 1\ns 1 0 0 1\ns 2 0 0 1\ns 3 0 0 1\n";
+        let e = crate::scene::nff::parse(text, &mut s).unwrap_err();
+        assert_eq!(e.to_string(), "line 5, column 1: scene too large: out of memory for 4 primitives");
+        // ... and takes back the vertices of a polygon that did not fit.
+        let mut s = starved();
+        let text = "f 1 1 1 1 0 0 0 1\np 4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+        let e = crate::scene::nff::parse(text, &mut s).unwrap_err();
+        assert_eq!(e.to_string(), "line 2, column 1: scene too large: out of memory for 4 vertices");
+        assert_eq!((s.len(), s.vertex_count()), (0, 0));
     }
 
     #[test]

@@ -360,7 +360,7 @@ mod tests {
             };
             let full = Image::render(scene, &base).unwrap();
             assert_eq!((full.region, full.full_size), (Rect { x: 0, y: 0, w: 45, h: 37 }, (45, 37)));
-            // Unaligned to packets (4×4), tiles (32) and adaptive blocks (16).
+            // Unaligned to packets (4×4), bands (8 rows) and adaptive blocks (16).
             for (k, region) in [
                 Rect { x: 0, y: 0, w: 45, h: 37 },
                 Rect { x: 3, y: 5, w: 30, h: 31 },
