@@ -1,5 +1,5 @@
-//! The NFF scene reader: `&str` in, a fixed-capacity [`Scene`] out, without
-//! an allocator.
+//! The NFF scene reader: `&str` in, a scene out ([`SceneStore`]: a
+//! fixed-capacity `Scene` without an allocator, or with `std` a `HeapScene`).
 //!
 //! NFF (Neutral File Format, Eric Haines, 1988) is the text format of the
 //! Standard Procedural Databases. One entity per line, fields separated by
@@ -31,7 +31,7 @@
 //! becomes exactly one primitive, in file order, so primitive `k` of the
 //! scene is the `k`-th primitive entity of the file (zero-area polygons
 //! included: they are kept and never hit, see
-//! [`Scene::degenerate_polygons`]).
+//! [`SceneStore::degenerate_polygons`]).
 //!
 //! Reading rules beyond the format:
 //! - Numbers are parsed as `f32` (correctly rounded) and converted to the

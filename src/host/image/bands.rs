@@ -2,7 +2,7 @@
 //! image's grid ([`Rect::bands`]), each rendered by whichever worker takes
 //! it next, straight into its rows of one pixel buffer.
 
-use super::Error;
+use super::options::Error;
 use crate::geom::rect::Rect;
 use crate::host::dispatch::{self, Isa};
 use crate::num::scalar::Scalar;

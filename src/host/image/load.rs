@@ -5,8 +5,8 @@
 //! not an abort.
 
 use super::bands::{render_tiles, Tiling, TILE};
+use super::options::{image_size, threads, AccelKind, Error, Image, Options, ScalarKind, DEPTH};
 use super::policy::packet_used;
-use super::{image_size, AccelKind, Error, Image, Options, ScalarKind, DEPTH};
 use crate::geom::camera::Camera;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
@@ -101,6 +101,14 @@ impl LoadedScene {
     }
 }
 
+impl Image {
+    /// Reads `scene` (NFF text), builds what `options` asks for and renders
+    /// it; see the module documentation.
+    pub fn render(scene: &str, options: &Options) -> Result<Image, Error> {
+        with_scene(scene, options.scalar, options.accel, |s| s.render(options, &|| {}))?
+    }
+}
+
 /// Loads `text` with [`LoadedScene::load`] and runs `f` on the scene;
 /// returns what `f` returns.
 pub fn with_scene<T>(
@@ -178,7 +186,7 @@ impl<S: Scalar> Loaded<S> {
         let mut renderer = Renderer::new(tracer, camera);
         renderer.aov = options.aov;
         renderer.sampling = options.sampling;
-        let threads = super::threads(options.threads)?;
+        let threads = threads(options.threads)?;
         let start = Instant::now();
         let tiling = Tiling { packet: options.packet, isa: options.isa, threads, tile: TILE };
         let (pixels, stats) = render_tiles(&renderer, region, &tiling, progress)?;
