@@ -1,6 +1,6 @@
 //! Seeded mutations of every scene file in `tests/scenes/` (the 17 SPD
 //! databases and the extension sample) through the NFF reader and the scene
-//! builder of the command line (`raypack::image::with_scene`: size tier,
+//! builder of the command line (`raypack::image::with_scene`: heap scene,
 //! fixed-point conversion, BVH), a few of them rendered as tiny images.
 //!
 //! Deterministic: the suite's SplitMix64 generator (`tests/common`) with a fixed seed makes the same

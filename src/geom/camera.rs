@@ -12,6 +12,7 @@
 
 use crate::geom::fixed_range::{self, RangeError, RangeItem};
 use crate::geom::ray::RayPacket;
+use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
@@ -61,18 +62,7 @@ pub const fn packet_shape(w: usize) -> (u32, u32) {
     }
 }
 
-/// A pixel rectangle: columns `x .. x + w`, rows `y .. y + h`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Rect {
-    /// First column.
-    pub x: u32,
-    /// First row.
-    pub y: u32,
-    /// Width in pixels.
-    pub w: u32,
-    /// Height in pixels.
-    pub h: u32,
-}
+pub use crate::geom::rect::Rect;
 
 /// A pinhole camera for an image of a given size.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -142,6 +132,39 @@ impl<S: Scalar> Camera<S> {
             sy_scale: tan_half,
             units: 1.0,
         })
+    }
+
+    /// The camera of a view described in `f32`, in a scene's own units (eye
+    /// `from`, look-at point `at`, up vector `up`, vertical field of view
+    /// `vfov_deg`), in the frame `frame` the scene is traced in (see
+    /// [`crate::geom::uniform_scale`]). A scalar without a frame of its own
+    /// ([`Scalar::SCENE_FRAME`] `None`) gets [`Camera::new`] of the numbers
+    /// as they are, and `frame` is not used. One with a frame gets the eye
+    /// moved and scaled by `frame`, the look-at point replaced by the point
+    /// one unit from the eye in the same direction (so it lies near the
+    /// scene, however far away the description puts it), the up vector
+    /// unchanged, and distances reported in the description's units.
+    pub fn in_frame(
+        from: [f32; 3],
+        at: [f32; 3],
+        up: [f32; 3],
+        vfov_deg: f32,
+        width: u32,
+        height: u32,
+        frame: &Similarity,
+    ) -> Result<Self, CameraError> {
+        let v = |a: [f32; 3]| Vec3::<S>::from_f32(a[0], a[1], a[2]);
+        if S::SCENE_FRAME.is_none() {
+            return Camera::new(v(from), v(at), v(up), vfov_deg, width, height);
+        }
+        let eye = Vec3::new(from[0], from[1], from[2]);
+        let dir = (Vec3::new(at[0], at[1], at[2]) - eye).normalize_or_zero();
+        if dir == Vec3::ZERO {
+            return Err(if eye.is_finite() { CameraError::EyeAtTarget } else { CameraError::NonFinite });
+        }
+        let e: Vec3<f32> = frame.point(eye);
+        let c = |v: Vec3<f32>| Vec3::<S>::from_f32(v.x, v.y, v.z);
+        Camera::new(c(e), c(e + dir), v(up), vfov_deg, width, height).map(|c| c.with_units(frame.units_per_unit()))
     }
 
     /// The same camera, saying that one unit of its frame is `units` units

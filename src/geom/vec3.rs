@@ -100,19 +100,11 @@ impl<S: Scalar> Vec3<S> {
         self.length_squared().sqrt()
     }
     /// Unit vector in the same direction; the zero vector (and any vector
-    /// whose length is not a positive number) gives the zero vector.
+    /// whose length is not a positive number) gives the zero vector. The
+    /// packet form [`Vec3xW::normalize`] at one lane.
     #[inline]
     pub fn normalize_or_zero(self) -> Self {
-        // Fixed point: first bring the largest component near 1 (exactly,
-        // by a power of two), so the squared length neither overflows nor
-        // loses its digits (see `Scalar::NORMALIZE_PRESCALE`).
-        let v = if S::NORMALIZE_PRESCALE { self.scale(self.max_abs().normalizing_factor()) } else { self };
-        let len = v.length();
-        if len > S::ZERO && len.is_finite() {
-            v.scale(S::ONE / len)
-        } else {
-            Self::ZERO
-        }
+        self.splat::<1>().normalize().0.lane(0)
     }
     /// Whether every component is finite.
     #[inline]

@@ -7,8 +7,7 @@
 //! sphere test, `b² − 4ac` of a quadric) and its smallest are the last bits of
 //! unit directions. 16.16 overflows at a squared distance of 32 768 (a scene
 //! 100 units wide) and resolves directions only to 1.5·10⁻⁵; measured on the
-//! demo scene it reaches 14.9 dB PSNR against `f32` (see the README section
-//! "Fixed point"). 32.32 keeps 2⁻³² ≈ 2.3·10⁻¹⁰
+//! demo scene it reaches 14.9 dB PSNR against `f32`. 32.32 keeps 2⁻³² ≈ 2.3·10⁻¹⁰
 //! resolution (finer than `f32` near 1) and squares up to 2³¹ ≈ 2.1·10⁹, which
 //! is what [`crate::geom::fixed_range`] budgets for.
 //!

@@ -36,4 +36,6 @@ pub use accel_choice::AccelChoice;
 pub use accelerator::{Accelerator, Hit, PacketJob, SceneMismatch};
 pub use brute::BruteForce;
 pub use bvh::{BuildSettings, Bvh, BvhError, BvhStats, BvhView};
+#[cfg(feature = "std")]
+pub use bvh::{HeapBvh, HeapBvhError};
 pub use cull::{Candidates, CullError, ScreenCull, ShadowCull};

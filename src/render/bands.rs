@@ -33,6 +33,7 @@
 //! ```
 
 use crate::geom::camera::{packet_shape, Rect};
+pub use crate::geom::rect::RectPositions;
 use crate::num::scalar::Scalar;
 use crate::query::Accelerator;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
@@ -201,39 +202,6 @@ impl PixelFormat {
                 ([hi, lo, 0], 2)
             }
         }
-    }
-}
-
-/// Row-major pixel positions of a rectangle, without a division per pixel.
-#[derive(Clone, Copy, Debug)]
-pub struct RectPositions {
-    rect: Rect,
-    x: u32,
-    y: u32,
-}
-
-impl RectPositions {
-    /// Positions of `rect`'s pixels, row by row.
-    pub fn new(rect: Rect) -> Self {
-        RectPositions { rect, x: 0, y: 0 }
-    }
-}
-
-impl Iterator for RectPositions {
-    type Item = (u32, u32);
-    #[inline]
-    fn next(&mut self) -> Option<(u32, u32)> {
-        if self.y >= self.rect.h || self.rect.w == 0 {
-            return None;
-        }
-        let p = (self.rect.x.wrapping_add(self.x), self.rect.y.wrapping_add(self.y));
-        // `x < w` and `y < h` here, so neither increment can wrap.
-        self.x = self.x.wrapping_add(1);
-        if self.x >= self.rect.w {
-            self.x = 0;
-            self.y = self.y.wrapping_add(1);
-        }
-        Some(p)
     }
 }
 
@@ -442,13 +410,6 @@ mod tests {
                 assert!((mean - exact).abs() <= 1.0 / (n * n) as f64 + 1e-9 || v == 255, "v={v} mean={mean}");
             }
         }
-    }
-
-    #[test]
-    fn rect_positions_are_row_major() {
-        let p: Vec<_> = RectPositions::new(Rect { x: 3, y: 5, w: 2, h: 2 }).collect();
-        assert_eq!(p, [(3, 5), (4, 5), (3, 6), (4, 6)]);
-        assert_eq!(RectPositions::new(Rect { x: 0, y: 0, w: 0, h: 4 }).count(), 0);
     }
 
     #[test]

@@ -131,30 +131,10 @@ impl<E: core::fmt::Debug> core::error::Error for DrawError<E> {}
 
 /// The part of image rectangle `rect`, placed with the image's top-left
 /// pixel at `top_left`, that lies inside `clip` (target coordinates):
-/// `(visible part in image coordinates, its top-left in target coordinates)`,
-/// or `None` if nothing of it is visible. Computed in `i64`, so no
-/// placement overflows.
+/// [`Rect::placed`] in embedded-graphics types.
 fn visible_part(rect: Rect, top_left: Point, clip: &Rectangle) -> Option<(Rect, Point)> {
-    // One axis: the interval [start, start + len) of the image, shifted by
-    // `offset`, intersected with [clip_start, clip_start + clip_len).
-    let axis = |start: u32, len: u32, offset: i32, clip_start: i32, clip_len: u32| -> Option<(u32, u32, i32)> {
-        // Target coordinates are i32: nothing lies past i32::MAX.
-        let clip_end = (clip_start as i64 + clip_len as i64).min(i32::MAX as i64 + 1);
-        let lo = (offset as i64 + start as i64).max(clip_start as i64);
-        let hi = (offset as i64 + start as i64 + len as i64).min(clip_end);
-        if hi <= lo {
-            return None;
-        }
-        // `clip_start <= lo < hi <= i32::MAX + 1`, and `lo - offset` is
-        // at least `start`: the conversions cannot fail.
-        let target_lo = i32::try_from(lo).ok()?;
-        let image_lo = u32::try_from(lo - offset as i64).ok()?;
-        let len = u32::try_from(hi - lo).ok()?;
-        Some((image_lo, len, target_lo))
-    };
-    let (x, w, tx) = axis(rect.x, rect.w, top_left.x, clip.top_left.x, clip.size.width)?;
-    let (y, h, ty) = axis(rect.y, rect.h, top_left.y, clip.top_left.y, clip.size.height)?;
-    Some((Rect { x, y, w, h }, Point::new(tx, ty)))
+    let clip = ((clip.top_left.x, clip.top_left.y), (clip.size.width, clip.size.height));
+    rect.placed((top_left.x, top_left.y), clip).map(|(r, (x, y))| (r, Point::new(x, y)))
 }
 
 impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {

@@ -92,23 +92,17 @@ pub fn build_demo_scene_for<S: Scalar>(
     scene: &mut DemoScene<S>,
     described: &mut DemoScene<f32>,
 ) -> Result<Similarity, SceneError> {
-    let Some(half) = S::SCENE_FRAME else {
+    if S::SCENE_FRAME.is_none() {
         build_demo_scene(scene)?;
         return Ok(Similarity::IDENTITY);
-    };
+    }
     build_demo_scene(described)?;
     let (e, _, _, _) = DEMO_VIEW;
-    let frame = described.view().fitting_frame(Some(Vec3::new(e[0], e[1], e[2])), half);
-    scene.add_similar(&described.view(), &frame)?;
-    Ok(frame)
+    scene.add_in_frame(&described.view(), Some(Vec3::new(e[0], e[1], e[2])))
 }
 
 /// The demo camera in `frame` (what [`build_demo_scene_for`] returned).
 pub fn demo_camera_for<S: Scalar>(frame: &Similarity, width: u32, height: u32) -> Result<Camera<S>, CameraError> {
-    if *frame == Similarity::IDENTITY {
-        return demo_camera(width, height);
-    }
     let (e, a, u, fov) = DEMO_VIEW;
-    let cam = crate::scene::nff::NffCamera { from: e, at: a, up: u, angle: fov, hither: 0.0, width, height };
-    cam.camera_in(frame, width, height)
+    Camera::in_frame(e, a, u, fov, width, height, frame)
 }

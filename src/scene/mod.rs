@@ -1,4 +1,5 @@
-//! Scene data: the fixed-capacity store and its [`SceneView`] of slices, the
+//! Scene data: the store (fixed capacities, or the heap with `std`) and its
+//! [`SceneView`] of slices, the
 //! NFF reader that fills it, and the built-in demo scene. Built on
 //! [`crate::geom`]; how a scene is searched is [`crate::query`]'s business.
 
@@ -6,4 +7,9 @@ pub mod demo;
 pub mod nff;
 mod store;
 
-pub use store::{CapacityError, CapacityKind, Light, Material, Primitive, Scene, SceneError, SceneView};
+pub use store::{
+    CapacityError, CapacityKind, Fixed, Light, Material, MemoryError, Pool, PoolFull, Primitive, Scene, SceneError,
+    SceneStore, SceneView, Storage,
+};
+#[cfg(feature = "std")]
+pub use store::{Heap, HeapScene};

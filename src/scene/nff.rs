@@ -1,5 +1,5 @@
-//! The NFF scene reader: `&str` in, a fixed-capacity [`Scene`] out, without
-//! an allocator.
+//! The NFF scene reader: `&str` in, a scene out ([`SceneStore`]: a
+//! fixed-capacity `Scene` without an allocator, or with `std` a `HeapScene`).
 //!
 //! NFF (Neutral File Format, Eric Haines, 1988) is the text format of the
 //! Standard Procedural Databases. One entity per line, fields separated by
@@ -31,7 +31,7 @@
 //! becomes exactly one primitive, in file order, so primitive `k` of the
 //! scene is the `k`-th primitive entity of the file (zero-area polygons
 //! included: they are kept and never hit, see
-//! [`Scene::degenerate_polygons`]).
+//! [`SceneStore::degenerate_polygons`]).
 //!
 //! Reading rules beyond the format:
 //! - Numbers are parsed as `f32` (correctly rounded) and converted to the
@@ -70,10 +70,9 @@
 
 use crate::geom::camera::{Camera, CameraError};
 use crate::geom::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Quadric, Shape, Sphere};
-use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
 use crate::num::scalar::Scalar;
-use crate::scene::{CapacityError, CapacityKind, Material, Scene, SceneError};
+use crate::scene::{CapacityError, CapacityKind, Material, MemoryError, Pool, SceneError, SceneStore, Storage};
 
 /// A short copy of an offending piece of input (up to 24 bytes, cut at a
 /// character boundary), so errors can quote it without borrowing the text.
@@ -188,6 +187,8 @@ pub enum NffErrorKind {
     /// A coordinate is beyond what the scalar type represents safely
     /// (fixed point; see [`crate::geom::fixed_range`]).
     OutOfRange(crate::geom::fixed_range::RangeError),
+    /// The memory ran out while a heap scene grew (`std` only).
+    OutOfMemory(MemoryError),
 }
 
 impl core::fmt::Display for NffErrorKind {
@@ -221,6 +222,7 @@ impl core::fmt::Display for NffErrorKind {
             Geometry { what, error } => write!(f, "invalid {what}: {error}"),
             InvalidMaterial(why) => write!(f, "invalid material: {why}"),
             OutOfRange(r) => r.fmt(f),
+            OutOfMemory(m) => write!(f, "scene too large: {m}"),
         }
     }
 }
@@ -273,24 +275,6 @@ impl NffCamera {
     pub fn camera<S: Scalar>(&self, width: u32, height: u32) -> Result<Camera<S>, CameraError> {
         let v = |a: [f32; 3]| Vec3::<S>::from_f32(a[0], a[1], a[2]);
         Camera::new(v(self.from), v(self.at), v(self.up), self.angle, width, height)
-    }
-
-    /// The same camera in the frame of `sim` (for a scene converted by
-    /// [`crate::scene::Scene::add_similar`]): the eye moved and scaled, the
-    /// look-at point replaced by the point one unit from the eye in the
-    /// same direction (so it lies near the scene, whatever the file says),
-    /// the up vector unchanged; distances reported in the file's units.
-    pub fn camera_in<S: Scalar>(&self, sim: &Similarity, width: u32, height: u32) -> Result<Camera<S>, CameraError> {
-        let eye = Vec3::new(self.from[0], self.from[1], self.from[2]);
-        let dir = (Vec3::new(self.at[0], self.at[1], self.at[2]) - eye).normalize_or_zero();
-        if dir == Vec3::ZERO {
-            return Err(if eye.is_finite() { CameraError::EyeAtTarget } else { CameraError::NonFinite });
-        }
-        let e: Vec3<f32> = sim.point(eye);
-        let at = e + dir;
-        let c = |v: Vec3<f32>| Vec3::<S>::from_f32(v.x, v.y, v.z);
-        Camera::new(c(e), c(at), c(Vec3::new(self.up[0], self.up[1], self.up[2])), self.angle, width, height)
-            .map(|c| c.with_units(sim.units_per_unit()))
     }
 }
 
@@ -368,42 +352,48 @@ trait Sink<S> {
     /// Room for one more primitive with `slots` pool vertices.
     fn polygon_room(&mut self, slots: u64) -> Result<(), SceneError>;
     fn push_vertex(&mut self, v: Vec3<S>) -> Result<u32, SceneError>;
+    /// Removes the pool vertices from `len` on.
+    fn truncate_vertices(&mut self, len: usize);
     fn add_polygon_from_pool(&mut self, first: u32, count: u32, patch: bool, material: u16) -> Result<(), SceneError>;
 }
 
-impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> Sink<S> for Scene<S, P, V, M, L> {
+impl<S: Scalar, St: Storage<S>> Sink<S> for SceneStore<S, St> {
     fn set_background(&mut self, c: Vec3<S>) -> Result<(), SceneError> {
-        Scene::set_background(self, c)
+        SceneStore::set_background(self, c)
     }
     fn add_material(&mut self, m: Material<S>) -> Result<u16, SceneError> {
-        Scene::add_material(self, m)
+        SceneStore::add_material(self, m)
     }
     fn add_light(&mut self, p: Vec3<S>, c: Vec3<S>) -> Result<(), SceneError> {
-        Scene::add_light(self, p, c)
+        SceneStore::add_light(self, p, c)
     }
     fn add_shape(&mut self, s: Shape<S>, material: u16) -> Result<(), SceneError> {
-        Scene::add_shape(self, s, material).map(|_| ())
+        SceneStore::add_shape(self, s, material).map(|_| ())
     }
     fn polygon_room(&mut self, slots: u64) -> Result<(), SceneError> {
-        if self.len() >= P {
+        let (p, v) = (St::Prims::LIMIT, St::Verts::LIMIT);
+        if self.len() >= p {
             return Err(SceneError::Capacity(CapacityError {
                 kind: CapacityKind::Primitives,
-                capacity: P,
+                capacity: p,
                 needed: self.len() + 1,
             }));
         }
         let needed = self.vertex_count() as u64 + slots;
-        if needed > V as u64 {
+        if needed > v as u64 {
             let needed = usize::try_from(needed).unwrap_or(usize::MAX);
-            return Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Vertices, capacity: V, needed }));
+            return Err(SceneError::Capacity(CapacityError { kind: CapacityKind::Vertices, capacity: v, needed }));
         }
         Ok(())
     }
     fn push_vertex(&mut self, v: Vec3<S>) -> Result<u32, SceneError> {
-        Scene::push_vertex(self, v)
+        SceneStore::push_vertex(self, v)
+    }
+    fn truncate_vertices(&mut self, len: usize) {
+        SceneStore::truncate_vertices(self, len)
     }
     fn add_polygon_from_pool(&mut self, first: u32, count: u32, patch: bool, material: u16) -> Result<(), SceneError> {
-        Scene::add_polygon_from_pool(self, first, count, patch, material).map(|_| ())
+        SceneStore::add_polygon_from_pool(self, first, count, patch, material).map(|_| ())
     }
 }
 
@@ -429,6 +419,7 @@ impl Sink<f32> for Discard {
     fn push_vertex(&mut self, _: Vec3<f32>) -> Result<u32, SceneError> {
         Ok(0)
     }
+    fn truncate_vertices(&mut self, _: usize) {}
     fn add_polygon_from_pool(&mut self, _: u32, _: u32, _: bool, _: u16) -> Result<(), SceneError> {
         Ok(())
     }
@@ -438,10 +429,7 @@ impl Sink<f32> for Discard {
 /// camera, background and counts.
 ///
 /// On error the scene holds the entities before the failing one.
-pub fn parse<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize>(
-    text: &str,
-    scene: &mut Scene<S, P, V, M, L>,
-) -> Result<NffInfo, NffError> {
+pub fn parse<S: Scalar, St: Storage<S>>(text: &str, scene: &mut SceneStore<S, St>) -> Result<NffInfo, NffError> {
     read(text, scene).map_err(|mut e| {
         // Say what the whole file needs, if the rest of it can be counted.
         if let NffErrorKind::Capacity(ref mut c) = e.kind {
@@ -645,6 +633,7 @@ fn scene_error(line: &Line, what: &'static str, e: SceneError) -> NffError {
         SceneError::Geometry(error) => NffErrorKind::Geometry { what, error },
         SceneError::InvalidMaterial(why) => NffErrorKind::InvalidMaterial(why),
         SceneError::OutOfRange(r) => NffErrorKind::OutOfRange(r),
+        SceneError::OutOfMemory(m) => NffErrorKind::OutOfMemory(m),
         // The reader only uses material indices it was given.
         SceneError::UnknownMaterial(_) => NffErrorKind::NoMaterial(what),
     };
@@ -771,25 +760,36 @@ fn read_polygon<'a, S: Scalar, K: Sink<S>>(
         }
     }
     // Then the pool gets the `n` positions, and for a patch the `n` unit
-    // normals after them (a second pass over the same lines).
+    // normals after them (a second pass over the same lines). A vertex
+    // that does not fit (a heap scene out of memory) takes those before it
+    // out again.
     let mut first = None;
-    let mut again = start.clone();
-    for _ in 0..count {
-        let pos = if patch {
-            let (_, v) = continuation::<6>(&mut again, line.no, vwhat, vexp)?;
-            [v[0], v[1], v[2]]
-        } else {
-            continuation::<3>(&mut again, line.no, vwhat, vexp)?.1
-        };
-        let id = sink.push_vertex(v3(&pos)).map_err(|e| scene_error(line, what, e))?;
-        first.get_or_insert(id);
-    }
-    if patch {
-        let mut again = start;
+    let mut pushed = || -> Result<(), NffError> {
+        let mut again = start.clone();
         for _ in 0..count {
-            let (_, v) = continuation::<6>(&mut again, line.no, vwhat, vexp)?;
-            sink.push_vertex(v3::<S>(&v[3..]).normalize_or_zero()).map_err(|e| scene_error(line, what, e))?;
+            let pos = if patch {
+                let (_, v) = continuation::<6>(&mut again, line.no, vwhat, vexp)?;
+                [v[0], v[1], v[2]]
+            } else {
+                continuation::<3>(&mut again, line.no, vwhat, vexp)?.1
+            };
+            let id = sink.push_vertex(v3(&pos)).map_err(|e| scene_error(line, what, e))?;
+            first.get_or_insert(id);
         }
+        if patch {
+            let mut again = start.clone();
+            for _ in 0..count {
+                let (_, v) = continuation::<6>(&mut again, line.no, vwhat, vexp)?;
+                sink.push_vertex(v3::<S>(&v[3..]).normalize_or_zero()).map_err(|e| scene_error(line, what, e))?;
+            }
+        }
+        Ok(())
+    };
+    if let Err(e) = pushed() {
+        if let Some(f) = first {
+            sink.truncate_vertices(f as usize);
+        }
+        return Err(e);
     }
     sink.add_polygon_from_pool(first.unwrap_or(0), count, patch, material).map_err(|e| scene_error(line, what, e))
 }
@@ -864,69 +864,12 @@ fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffE
                 info.counts.lights += 1;
             }
             "f" | "fx" => {
-                let m = if key.text == "f" {
-                    expect_fields(&line, &fields, &[8], "`f`", "8 numbers (r g b Kd Ks Shine T ior)")?;
-                    let [r, g, b, kd, ks, shine, t, ior] = numbers::<8>(&line, &fields, 1)?;
-                    Material::nff(
-                        v3(&[r, g, b]),
-                        S::from_f32(kd),
-                        S::from_f32(ks),
-                        S::from_f32(shine),
-                        S::from_f32(t),
-                        S::from_f32(ior),
-                    )
-                } else {
-                    expect_fields(&line, &fields, &[10], "`fx`", "10 numbers (r g b Ka Kd Ks Shine Kr Kt ior)")?;
-                    let [r, g, b, ka, kd, ks, shine, kr, kt, ior] = numbers::<10>(&line, &fields, 1)?;
-                    let f = S::from_f32;
-                    Material {
-                        color: v3(&[r, g, b]),
-                        ka: f(ka),
-                        kd: f(kd),
-                        ks: f(ks),
-                        shine: f(shine),
-                        kr: f(kr),
-                        kt: f(kt),
-                        ior: f(ior),
-                    }
-                };
-                // Opaque SPD materials say ior 0; it is unused without transmission.
-                let m = if m.kt == S::ZERO && !(m.ior > S::ZERO) { Material { ior: S::ONE, ..m } } else { m };
-                let what = if key.text == "f" { "`f`" } else { "`fx`" };
-                m.validate().map_err(|e| scene_error(&line, what, e))?;
-                material = Some(sink.add_material(m).map_err(|e| scene_error(&line, what, e))?);
+                let m = read_material::<S>(&line, &fields, key.text)?;
+                material = Some(sink.add_material(m).map_err(|e| scene_error(&line, material_what(key.text), e))?);
                 info.counts.materials += 1;
             }
-            "s" => {
-                expect_fields(&line, &fields, &[4], "`s`", "4 numbers (cx cy cz r)")?;
-                let [x, y, z, r] = numbers::<4>(&line, &fields, 1)?;
-                let m = need_material("`s`")?;
-                let s = geometry(&line, "`s`", Sphere::new(v3(&[x, y, z]), S::from_f32(r)))?;
-                sink.add_shape(Shape::Sphere(s), m).map_err(|e| scene_error(&line, "`s`", e))?;
-                info.counts.spheres += 1;
-            }
-            "c" => {
-                let n = expect_fields(
-                    &line,
-                    &fields,
-                    &[0, 8],
-                    "`c`",
-                    "8 numbers (bx by bz br ax ay az ar), or none with base and apex on the next two lines",
-                )?;
-                let (b, a) = if n == 8 {
-                    let v = numbers::<8>(&line, &fields, 1)?;
-                    ([v[0], v[1], v[2], v[3]], [v[4], v[5], v[6], v[7]])
-                } else {
-                    let (_, b) =
-                        continuation::<4>(&mut lines, line.no, "the `c` base line", "4 numbers (bx by bz br)")?;
-                    let (_, a) =
-                        continuation::<4>(&mut lines, line.no, "the `c` apex line", "4 numbers (ax ay az ar)")?;
-                    (b, a)
-                };
-                let m = need_material("`c`")?;
-                let c = geometry(&line, "`c`", Cone::new(v3(&b), S::from_f32(b[3]), v3(&a), S::from_f32(a[3])))?;
-                sink.add_shape(Shape::Cone(c), m).map_err(|e| scene_error(&line, "`c`", e))?;
-                info.counts.cones += 1;
+            "s" | "c" | "pl" | "box" | "obox" | "q" => {
+                read_primitive::<S, K>(&mut lines, &line, &fields, material, sink, &mut info.counts)?
             }
             "p" | "pp" => {
                 let patch = key.text == "pp";
@@ -949,50 +892,6 @@ fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffE
                     info.counts.vertices += count as usize;
                 }
             }
-            "pl" => {
-                expect_fields(&line, &fields, &[4], "`pl`", "4 numbers (A B C D)")?;
-                let [a, b, c, d] = numbers::<4>(&line, &fields, 1)?;
-                let m = need_material("`pl`")?;
-                let f = S::from_f32;
-                let p = geometry(&line, "`pl`", Plane::from_coefficients(f(a), f(b), f(c), f(d)))?;
-                sink.add_shape(Shape::Plane(p), m).map_err(|e| scene_error(&line, "`pl`", e))?;
-                info.counts.planes += 1;
-            }
-            "box" => {
-                expect_fields(&line, &fields, &[6], "`box`", "6 numbers (x0 y0 z0 x1 y1 z1)")?;
-                let v = numbers::<6>(&line, &fields, 1)?;
-                let m = need_material("`box`")?;
-                let b = geometry(&line, "`box`", AaBox::new(v3(&v[..3]), v3(&v[3..])))?;
-                sink.add_shape(Shape::AaBox(b), m).map_err(|e| scene_error(&line, "`box`", e))?;
-                info.counts.boxes += 1;
-            }
-            "obox" => {
-                expect_fields(&line, &fields, &[12], "`obox`", "12 numbers (cx cy cz hx hy hz ux uy uz vx vy vz)")?;
-                let v = numbers::<12>(&line, &fields, 1)?;
-                let m = need_material("`obox`")?;
-                let b =
-                    geometry(&line, "`obox`", OrientedBox::new(v3(&v[..3]), v3(&v[3..6]), v3(&v[6..9]), v3(&v[9..])))?;
-                sink.add_shape(Shape::OrientedBox(b), m).map_err(|e| scene_error(&line, "`obox`", e))?;
-                info.counts.oriented_boxes += 1;
-            }
-            "q" => {
-                let n = expect_fields(
-                    &line,
-                    &fields,
-                    &[10, 16],
-                    "`q`",
-                    "10 numbers (A to J), or 16 with a clip box (x0 y0 z0 x1 y1 z1)",
-                )?;
-                let k = numbers::<10>(&line, &fields, 1)?;
-                let m = need_material("`q`")?;
-                let mut q = geometry(&line, "`q`", Quadric::new(k.map(S::from_f32)))?;
-                if n == 16 {
-                    let c = numbers::<6>(&line, &fields, 11)?;
-                    q = geometry(&line, "`q`", q.with_clip(v3(&c[..3]), v3(&c[3..])))?;
-                }
-                sink.add_shape(Shape::Quadric(q), m).map_err(|e| scene_error(&line, "`q`", e))?;
-                info.counts.quadrics += 1;
-            }
             other => return Err(line.error_at(key.at, NffErrorKind::UnknownEntity(Token::new(other)))),
         }
     }
@@ -1000,11 +899,147 @@ fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffE
     Ok(info)
 }
 
+/// `"`f`"` or `"`fx`"`, for messages.
+fn material_what(key: &str) -> &'static str {
+    if key == "f" {
+        "`f`"
+    } else {
+        "`fx`"
+    }
+}
+
+/// Reads an `f` or `fx` line (`key`) into a checked material.
+fn read_material<S: Scalar>(line: &Line, fields: &Fields, key: &str) -> Result<Material<S>, NffError> {
+    let m = if key == "f" {
+        expect_fields(line, fields, &[8], "`f`", "8 numbers (r g b Kd Ks Shine T ior)")?;
+        let [r, g, b, kd, ks, shine, t, ior] = numbers::<8>(line, fields, 1)?;
+        Material::nff(
+            v3(&[r, g, b]),
+            S::from_f32(kd),
+            S::from_f32(ks),
+            S::from_f32(shine),
+            S::from_f32(t),
+            S::from_f32(ior),
+        )
+    } else {
+        expect_fields(line, fields, &[10], "`fx`", "10 numbers (r g b Ka Kd Ks Shine Kr Kt ior)")?;
+        let [r, g, b, ka, kd, ks, shine, kr, kt, ior] = numbers::<10>(line, fields, 1)?;
+        let f = S::from_f32;
+        Material {
+            color: v3(&[r, g, b]),
+            ka: f(ka),
+            kd: f(kd),
+            ks: f(ks),
+            shine: f(shine),
+            kr: f(kr),
+            kt: f(kt),
+            ior: f(ior),
+        }
+    };
+    // Opaque SPD materials say ior 0; it is unused without transmission.
+    let m = if m.kt == S::ZERO && !(m.ior > S::ZERO) { Material { ior: S::ONE, ..m } } else { m };
+    m.validate().map_err(|e| scene_error(line, material_what(key), e))?;
+    Ok(m)
+}
+
+/// Reads a one-line primitive entity (`s`, `pl`, `box`, `obox`, `q`) or a
+/// `c` (one line or three) into `sink` with `material`, and counts it. The
+/// checks run in the order of every entity: fields and numbers, then the
+/// material, then the geometry.
+fn read_primitive<S: Scalar, K: Sink<S>>(
+    lines: &mut Lines,
+    line: &Line,
+    fields: &Fields,
+    material: Option<u16>,
+    sink: &mut K,
+    counts: &mut NffCounts,
+) -> Result<(), NffError> {
+    let key = fields.f[0];
+    let need_material = |what: &'static str| material.ok_or(line.error_at(key.at, NffErrorKind::NoMaterial(what)));
+    match key.text {
+        "s" => {
+            expect_fields(line, fields, &[4], "`s`", "4 numbers (cx cy cz r)")?;
+            let [x, y, z, r] = numbers::<4>(line, fields, 1)?;
+            let m = need_material("`s`")?;
+            let s = geometry(line, "`s`", Sphere::new(v3(&[x, y, z]), S::from_f32(r)))?;
+            sink.add_shape(Shape::Sphere(s), m).map_err(|e| scene_error(line, "`s`", e))?;
+            counts.spheres += 1;
+        }
+        "c" => {
+            let n = expect_fields(
+                line,
+                fields,
+                &[0, 8],
+                "`c`",
+                "8 numbers (bx by bz br ax ay az ar), or none with base and apex on the next two lines",
+            )?;
+            let (b, a) = if n == 8 {
+                let v = numbers::<8>(line, fields, 1)?;
+                ([v[0], v[1], v[2], v[3]], [v[4], v[5], v[6], v[7]])
+            } else {
+                let (_, b) = continuation::<4>(lines, line.no, "the `c` base line", "4 numbers (bx by bz br)")?;
+                let (_, a) = continuation::<4>(lines, line.no, "the `c` apex line", "4 numbers (ax ay az ar)")?;
+                (b, a)
+            };
+            let m = need_material("`c`")?;
+            let c = geometry(line, "`c`", Cone::new(v3(&b), S::from_f32(b[3]), v3(&a), S::from_f32(a[3])))?;
+            sink.add_shape(Shape::Cone(c), m).map_err(|e| scene_error(line, "`c`", e))?;
+            counts.cones += 1;
+        }
+        "pl" => {
+            expect_fields(line, fields, &[4], "`pl`", "4 numbers (A B C D)")?;
+            let [a, b, c, d] = numbers::<4>(line, fields, 1)?;
+            let m = need_material("`pl`")?;
+            let f = S::from_f32;
+            let p = geometry(line, "`pl`", Plane::from_coefficients(f(a), f(b), f(c), f(d)))?;
+            sink.add_shape(Shape::Plane(p), m).map_err(|e| scene_error(line, "`pl`", e))?;
+            counts.planes += 1;
+        }
+        "box" => {
+            expect_fields(line, fields, &[6], "`box`", "6 numbers (x0 y0 z0 x1 y1 z1)")?;
+            let v = numbers::<6>(line, fields, 1)?;
+            let m = need_material("`box`")?;
+            let b = geometry(line, "`box`", AaBox::new(v3(&v[..3]), v3(&v[3..])))?;
+            sink.add_shape(Shape::AaBox(b), m).map_err(|e| scene_error(line, "`box`", e))?;
+            counts.boxes += 1;
+        }
+        "obox" => {
+            expect_fields(line, fields, &[12], "`obox`", "12 numbers (cx cy cz hx hy hz ux uy uz vx vy vz)")?;
+            let v = numbers::<12>(line, fields, 1)?;
+            let m = need_material("`obox`")?;
+            let b = geometry(line, "`obox`", OrientedBox::new(v3(&v[..3]), v3(&v[3..6]), v3(&v[6..9]), v3(&v[9..])))?;
+            sink.add_shape(Shape::OrientedBox(b), m).map_err(|e| scene_error(line, "`obox`", e))?;
+            counts.oriented_boxes += 1;
+        }
+        "q" => {
+            let n = expect_fields(
+                line,
+                fields,
+                &[10, 16],
+                "`q`",
+                "10 numbers (A to J), or 16 with a clip box (x0 y0 z0 x1 y1 z1)",
+            )?;
+            let k = numbers::<10>(line, fields, 1)?;
+            let m = need_material("`q`")?;
+            let mut q = geometry(line, "`q`", Quadric::new(k.map(S::from_f32)))?;
+            if n == 16 {
+                let c = numbers::<6>(line, fields, 11)?;
+                q = geometry(line, "`q`", q.with_clip(v3(&c[..3]), v3(&c[3..])))?;
+            }
+            sink.add_shape(Shape::Quadric(q), m).map_err(|e| scene_error(line, "`q`", e))?;
+            counts.quadrics += 1;
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     extern crate std;
     use super::*;
     use crate::geom::primitives::ShapeKind;
+    use crate::scene::Scene;
     use std::format;
     use std::string::{String, ToString};
 

@@ -1,5 +1,7 @@
-//! Fixed-capacity scenes: primitives, the shared vertex pool, materials and
-//! lights, with capacities as const generics and errors instead of panics.
+//! Scenes: primitives, the shared vertex pool, materials and lights, with
+//! errors instead of panics. [`Scene`] has capacities as const generics
+//! (fixed memory, the core and firmware); with `std`, [`HeapScene`] grows on
+//! the heap (the command line). One builder serves both ([`SceneStore`]).
 //!
 //! [`Scene`] owns its storage (heapless vectors, no allocator); tracing works
 //! on a [`SceneView`] of slices, so the tracer is not monomorphized per
@@ -112,15 +114,30 @@ pub struct CapacityError {
     pub needed: usize,
 }
 
-impl core::fmt::Display for CapacityError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        let what = match self.kind {
+impl CapacityKind {
+    /// The name of one item, as messages say it.
+    fn singular(self) -> &'static str {
+        match self {
             CapacityKind::Primitives => "primitive",
             CapacityKind::Vertices => "vertex",
             CapacityKind::Materials => "material",
             CapacityKind::Lights => "light",
-        };
-        write!(f, "{what} capacity {} exceeded (needs {})", self.capacity, self.needed)
+        }
+    }
+    /// The name of several items.
+    fn plural(self) -> &'static str {
+        match self {
+            CapacityKind::Primitives => "primitives",
+            CapacityKind::Vertices => "vertices",
+            CapacityKind::Materials => "materials",
+            CapacityKind::Lights => "lights",
+        }
+    }
+}
+
+impl core::fmt::Display for CapacityError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{} capacity {} exceeded (needs {})", self.kind.singular(), self.capacity, self.needed)
     }
 }
 
@@ -138,7 +155,27 @@ pub enum SceneError {
     /// A coordinate is beyond what the scalar type represents safely
     /// (fixed point; see [`crate::geom::fixed_range`]).
     OutOfRange(RangeError),
+    /// The allocator could not grow a list of a [`HeapScene`].
+    OutOfMemory(MemoryError),
 }
+
+/// A heap scene's list could not grow: which one, and how many items it
+/// needed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MemoryError {
+    /// The list that could not grow.
+    pub kind: CapacityKind,
+    /// The number of items it needed room for.
+    pub needed: usize,
+}
+
+impl core::fmt::Display for MemoryError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "out of memory for {} {}", self.needed, self.kind.plural())
+    }
+}
+
+impl core::error::Error for MemoryError {}
 
 impl From<GeometryError> for SceneError {
     fn from(e: GeometryError) -> Self {
@@ -168,20 +205,134 @@ impl core::fmt::Display for SceneError {
             SceneError::UnknownMaterial(m) => write!(f, "unknown material {m}"),
             SceneError::InvalidMaterial(why) => write!(f, "invalid material: {why}"),
             SceneError::OutOfRange(r) => r.fmt(f),
+            SceneError::OutOfMemory(m) => m.fmt(f),
         }
     }
 }
 
+/// Why an item did not fit a [`Pool`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PoolFull {
+    /// The pool's limit ([`Pool::LIMIT`]) is reached.
+    Limit,
+    /// The allocator could not grow the pool (heap pools only).
+    Memory,
+}
+
+/// One list of a scene (primitives, vertices, materials or lights): a
+/// growable array with a limit. Implemented by `heapless::Vec` (fixed
+/// capacity, no allocator) and, with `std`, by `Vec` (grown on the heap,
+/// with `try_reserve`: no abort when memory runs out).
+pub trait Pool<T>: core::ops::Deref<Target = [T]> + core::ops::DerefMut + Clone {
+    /// Most items the pool can hold.
+    const LIMIT: usize;
+    /// Appends `item`, or says why it did not fit (the pool unchanged).
+    fn try_push(&mut self, item: T) -> Result<(), PoolFull>;
+    /// Keeps the first `len` items.
+    fn truncate_to(&mut self, len: usize);
+}
+
+impl<T: Clone, const N: usize> Pool<T> for HVec<T, N> {
+    const LIMIT: usize = N;
+    fn try_push(&mut self, item: T) -> Result<(), PoolFull> {
+        self.push(item).map_err(|_| PoolFull::Limit)
+    }
+    fn truncate_to(&mut self, len: usize) {
+        self.truncate(len)
+    }
+}
+
+#[cfg(feature = "std")]
+impl<T: Clone> Pool<T> for std::vec::Vec<T> {
+    /// Items are indexed by `u32` (primitive ids, vertex indices).
+    const LIMIT: usize = u32::MAX as usize;
+    fn try_push(&mut self, item: T) -> Result<(), PoolFull> {
+        if self.len() >= Self::LIMIT {
+            return Err(PoolFull::Limit);
+        }
+        // `try_reserve` grows geometrically, as `push` does, but reports a
+        // failed allocation instead of aborting the process.
+        self.try_reserve(1).map_err(|_| PoolFull::Memory)?;
+        self.push(item);
+        Ok(())
+    }
+    fn truncate_to(&mut self, len: usize) {
+        self.truncate(len)
+    }
+}
+
+/// Where a [`SceneStore`] keeps its four lists: [`Fixed`] capacities (the
+/// core, firmware) or, with `std`, [`Heap`] (as large as memory).
+pub trait Storage<S> {
+    /// The primitives.
+    type Prims: Pool<Primitive<S>>;
+    /// The vertex pool.
+    type Verts: Pool<Vec3<S>>;
+    /// The materials.
+    type Materials: Pool<Material<S>>;
+    /// The lights.
+    type Lights: Pool<Light<S>>;
+}
+
+/// Fixed capacities: `P` primitives, `V` pool vertices, `M` materials and
+/// `L` lights, in the scene value itself (no allocator).
+#[derive(Clone, Copy, Debug)]
+pub struct Fixed<const P: usize, const V: usize, const M: usize, const L: usize>;
+
+impl<S: Copy, const P: usize, const V: usize, const M: usize, const L: usize> Storage<S> for Fixed<P, V, M, L> {
+    type Prims = HVec<Primitive<S>, P>;
+    type Verts = HVec<Vec3<S>, V>;
+    type Materials = HVec<Material<S>, M>;
+    type Lights = HVec<Light<S>, L>;
+}
+
+/// Heap storage (`std`): lists that grow as needed, up to `u32` indices or
+/// the memory there is (an [`SceneError::OutOfMemory`], not an abort).
+#[cfg(feature = "std")]
+#[derive(Clone, Copy, Debug)]
+pub struct Heap;
+
+#[cfg(feature = "std")]
+impl<S: Copy> Storage<S> for Heap {
+    type Prims = std::vec::Vec<Primitive<S>>;
+    type Verts = std::vec::Vec<Vec3<S>>;
+    type Materials = std::vec::Vec<Material<S>>;
+    type Lights = std::vec::Vec<Light<S>>;
+}
+
 /// A scene with room for `P` primitives, `V` pool vertices, `M` materials and
 /// `L` lights, in fixed memory.
-#[derive(Clone)]
-pub struct Scene<S, const P: usize, const V: usize, const M: usize = 64, const L: usize = 16> {
-    prims: HVec<Primitive<S>, P>,
-    verts: HVec<Vec3<S>, V>,
-    materials: HVec<Material<S>, M>,
-    lights: HVec<Light<S>, L>,
+pub type Scene<S, const P: usize, const V: usize, const M: usize = 64, const L: usize = 16> =
+    SceneStore<S, Fixed<P, V, M, L>>;
+
+/// A scene on the heap (`std`), as large as memory: the same builder and the
+/// same [`SceneView`] as [`Scene`].
+#[cfg(feature = "std")]
+pub type HeapScene<S> = SceneStore<S, Heap>;
+
+/// A scene's primitives, vertex pool, materials and lights, stored as
+/// `St` says ([`Scene`]: fixed capacities; [`HeapScene`]: the heap). Built
+/// with `add_*`, traced through [`SceneStore::view`].
+pub struct SceneStore<S, St: Storage<S>> {
+    prims: St::Prims,
+    verts: St::Verts,
+    materials: St::Materials,
+    lights: St::Lights,
     background: Vec3<S>,
     degenerate_polygons: u32,
+}
+
+impl<S: Copy, St: Storage<S>> Clone for SceneStore<S, St> {
+    fn clone(&self) -> Self {
+        SceneStore {
+            prims: self.prims.clone(),
+            verts: self.verts.clone(),
+            materials: self.materials.clone(),
+            lights: self.lights.clone(),
+            background: self.background,
+            degenerate_polygons: self.degenerate_polygons,
+        }
+    }
 }
 
 impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> Default for Scene<S, P, V, M, L> {
@@ -190,14 +341,10 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
     }
 }
 
-fn full(kind: CapacityKind, capacity: usize, needed: usize) -> SceneError {
-    SceneError::Capacity(CapacityError { kind, capacity, needed })
-}
-
 impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> Scene<S, P, V, M, L> {
     /// An empty scene with a black background.
     pub const fn new() -> Self {
-        Scene {
+        SceneStore {
             prims: HVec::new(),
             verts: HVec::new(),
             materials: HVec::new(),
@@ -218,7 +365,54 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         self.background = Vec3::new(S::ZERO, S::ZERO, S::ZERO);
         self.degenerate_polygons = 0;
     }
+}
 
+#[cfg(feature = "std")]
+impl<S: Scalar> Default for HeapScene<S> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+#[cfg(feature = "std")]
+impl<S: Scalar> HeapScene<S> {
+    /// An empty scene with a black background.
+    pub fn new() -> Self {
+        SceneStore {
+            prims: std::vec::Vec::new(),
+            verts: std::vec::Vec::new(),
+            materials: std::vec::Vec::new(),
+            lights: std::vec::Vec::new(),
+            background: Vec3::new(S::ZERO, S::ZERO, S::ZERO),
+            degenerate_polygons: 0,
+        }
+    }
+
+    /// Bytes of heap the scene holds (its lists' capacities).
+    pub fn heap_bytes(&self) -> usize {
+        use core::mem::size_of;
+        self.prims.capacity() * size_of::<Primitive<S>>()
+            + self.verts.capacity() * size_of::<Vec3<S>>()
+            + self.materials.capacity() * size_of::<Material<S>>()
+            + self.lights.capacity() * size_of::<Light<S>>()
+    }
+}
+
+/// Pushes `item` onto `pool`, or says which list did not fit and how many
+/// items it needed.
+fn push<T, P: Pool<T>>(pool: &mut P, item: T, kind: CapacityKind) -> Result<(), SceneError> {
+    let needed = pool.len().saturating_add(1);
+    pool.try_push(item).map_err(|why| match why {
+        PoolFull::Limit => full(kind, P::LIMIT, needed),
+        PoolFull::Memory => SceneError::OutOfMemory(MemoryError { kind, needed }),
+    })
+}
+
+fn full(kind: CapacityKind, capacity: usize, needed: usize) -> SceneError {
+    SceneError::Capacity(CapacityError { kind, capacity, needed })
+}
+
+impl<S: Scalar, St: Storage<S>> SceneStore<S, St> {
     /// Sets the colour seen by rays that hit nothing.
     pub fn set_background(&mut self, color: Vec3<S>) -> Result<(), SceneError> {
         if !color.is_finite() {
@@ -235,7 +429,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         if id > u16::MAX as usize {
             return Err(full(CapacityKind::Materials, u16::MAX as usize + 1, id.saturating_add(1)));
         }
-        self.materials.push(m).map_err(|_| full(CapacityKind::Materials, M, id.saturating_add(1)))?;
+        push(&mut self.materials, m, CapacityKind::Materials)?;
         Ok(id as u16)
     }
 
@@ -246,7 +440,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         }
         let n = self.lights.len();
         fixed_range::check_point(position, RangeItem::Light(n as u32))?;
-        self.lights.push(Light { position, color }).map_err(|_| full(CapacityKind::Lights, L, n.saturating_add(1)))
+        push(&mut self.lights, Light { position, color }, CapacityKind::Lights)
     }
 
     /// Adds a primitive with material `material` and returns its index
@@ -257,9 +451,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
         }
         let id = self.prims.len();
         fixed_range::check_shape(&shape, &self.verts, id as u32)?;
-        self.prims
-            .push(Primitive { shape, material })
-            .map_err(|_| full(CapacityKind::Primitives, P, id.saturating_add(1)))?;
+        push(&mut self.prims, Primitive { shape, material }, CapacityKind::Primitives)?;
         if let Shape::Polygon(p) = shape {
             if p.is_degenerate() {
                 self.degenerate_polygons = self.degenerate_polygons.saturating_add(1);
@@ -308,12 +500,31 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
     }
 
     /// Appends one vertex to the pool and returns its index. With
-    /// [`Scene::add_polygon_from_pool`] this lets a reader stream vertices
+    /// [`Self::add_polygon_from_pool`] this lets a reader stream vertices
     /// without a buffer of its own.
     pub fn push_vertex(&mut self, v: Vec3<S>) -> Result<u32, SceneError> {
         let n = self.verts.len();
-        self.verts.push(v).map_err(|_| full(CapacityKind::Vertices, V, n.saturating_add(1)))?;
+        push(&mut self.verts, v, CapacityKind::Vertices)?;
         Ok(n as u32)
+    }
+
+    /// Appends `vertices` to the pool and returns the index of the first;
+    /// if one does not fit (a heap pool out of memory), none stays.
+    fn push_vertices(&mut self, vertices: impl Iterator<Item = Vec3<S>>) -> Result<u32, SceneError> {
+        let first = self.verts.len();
+        for v in vertices {
+            if let Err(e) = self.push_vertex(v) {
+                self.verts.truncate_to(first);
+                return Err(e);
+            }
+        }
+        Ok(first as u32)
+    }
+
+    /// Removes the vertices from index `len` on (what a reader streamed
+    /// for a polygon it could not complete).
+    pub(crate) fn truncate_vertices(&mut self, len: usize) {
+        self.verts.truncate_to(len);
     }
 
     /// Number of vertices in the pool.
@@ -335,18 +546,19 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             .map_err(SceneError::from)
             .and_then(|p| self.add_shape(Shape::Polygon(p), material));
         if result.is_err() {
-            self.verts.truncate(first as usize);
+            self.verts.truncate_to(first as usize);
         }
         result
     }
 
     fn check_vertex_room(&self, n: usize) -> Result<(), SceneError> {
         let needed = self.verts.len().saturating_add(n);
-        if needed > V {
-            return Err(full(CapacityKind::Vertices, V, needed));
+        let (v, p) = (St::Verts::LIMIT, St::Prims::LIMIT);
+        if needed > v {
+            return Err(full(CapacityKind::Vertices, v, needed));
         }
-        if self.prims.len() >= P {
-            return Err(full(CapacityKind::Primitives, P, self.prims.len().saturating_add(1)));
+        if self.prims.len() >= p {
+            return Err(full(CapacityKind::Primitives, p, self.prims.len().saturating_add(1)));
         }
         Ok(())
     }
@@ -357,10 +569,7 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             return Err(GeometryError::TooFewVertices(vertices.len() as u32).into());
         }
         self.check_vertex_room(vertices.len())?;
-        let first = self.verts.len() as u32;
-        for &v in vertices {
-            self.push_vertex(v)?;
-        }
+        let first = self.push_vertices(vertices.iter().copied())?;
         self.add_polygon_from_pool(first, vertices.len() as u32, false, material)
     }
 
@@ -381,13 +590,8 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
                 return Err(if n.is_finite() { GeometryError::ZeroLengthAxis } else { GeometryError::NonFinite }.into());
             }
         }
-        let first = self.verts.len() as u32;
-        for &v in vertices {
-            self.push_vertex(v)?;
-        }
-        for n in normals {
-            self.push_vertex(n.normalize_or_zero())?;
-        }
+        let first =
+            self.push_vertices(vertices.iter().copied().chain(normals.iter().map(|n| n.normalize_or_zero())))?;
         self.add_polygon_from_pool(first, vertices.len() as u32, true, material)
     }
 
@@ -454,6 +658,26 @@ impl<S: Scalar, const P: usize, const V: usize, const M: usize, const L: usize> 
             self.add_light(sim.point(l.position), Vec3::from_f32(r, g, b))?;
         }
         Ok(())
+    }
+
+    /// Appends `described` (a scene built in `f32`, in whatever units it was
+    /// written) in the frame this scene's scalar traces in, and returns
+    /// that frame: for a scalar with [`Scalar::SCENE_FRAME`] `half`, the box
+    /// around `described`'s bounded primitives and `eye` centred on the
+    /// origin, its largest half-extent scaled to `half`
+    /// ([`SceneView::fitting_frame`]); the identity for every other scalar.
+    /// Errors as [`Self::add_similar`].
+    pub fn add_in_frame(
+        &mut self,
+        described: &SceneView<'_, f32>,
+        eye: Option<Vec3<f32>>,
+    ) -> Result<Similarity, SceneError> {
+        let frame = match S::SCENE_FRAME {
+            Some(half) => described.fitting_frame(eye, half),
+            None => Similarity::IDENTITY,
+        };
+        self.add_similar(described, &frame)?;
+        Ok(frame)
     }
 
     /// Number of zero-area polygons (kept, never hit), so a reader can warn.
@@ -728,6 +952,84 @@ mod tests {
         assert_eq!(s.add_polygon(&line, m), Ok(0));
         assert_eq!(s.add_sphere(Vec3::ZERO, 1.0, m), Ok(1));
         assert_eq!(s.degenerate_polygons(), 1);
+    }
+
+    /// A pool that fails as a heap pool does when the allocator refuses
+    /// to grow it: after 3 items.
+    #[derive(Clone)]
+    struct Starved<T>(HVec<T, 3>);
+
+    impl<T> core::ops::Deref for Starved<T> {
+        type Target = [T];
+        fn deref(&self) -> &[T] {
+            &self.0
+        }
+    }
+    impl<T> core::ops::DerefMut for Starved<T> {
+        fn deref_mut(&mut self) -> &mut [T] {
+            &mut self.0
+        }
+    }
+    impl<T: Clone> Pool<T> for Starved<T> {
+        const LIMIT: usize = u32::MAX as usize;
+        fn try_push(&mut self, item: T) -> Result<(), PoolFull> {
+            self.0.push(item).map_err(|_| PoolFull::Memory)
+        }
+        fn truncate_to(&mut self, len: usize) {
+            self.0.truncate(len)
+        }
+    }
+
+    struct StarvedStorage;
+    impl<S: Copy> Storage<S> for StarvedStorage {
+        type Prims = Starved<Primitive<S>>;
+        type Verts = Starved<Vec3<S>>;
+        type Materials = HVec<Material<S>, 4>;
+        type Lights = HVec<Light<S>, 4>;
+    }
+
+    fn starved() -> SceneStore<f32, StarvedStorage> {
+        SceneStore {
+            prims: Starved(HVec::new()),
+            verts: Starved(HVec::new()),
+            materials: HVec::new(),
+            lights: HVec::new(),
+            background: Vec3::ZERO,
+            degenerate_polygons: 0,
+        }
+    }
+
+    #[test]
+    fn memory_that_runs_out_is_an_error_that_says_which_list() {
+        extern crate std;
+        use std::string::ToString;
+        let mut s = starved();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        for i in 0..3 {
+            s.add_sphere(Vec3::new(i as f32, 0.0, 0.0), 1.0, m).unwrap();
+        }
+        let e = s.add_sphere(Vec3::ZERO, 1.0, m).unwrap_err();
+        assert_eq!(e, SceneError::OutOfMemory(MemoryError { kind: CapacityKind::Primitives, needed: 4 }));
+        assert_eq!(e.to_string(), "out of memory for 4 primitives");
+        assert_eq!(s.len(), 3);
+        // A polygon whose vertices do not fit leaves nothing behind.
+        let mut s = starved();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        let quad = [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let e = s.add_polygon(&quad, m).unwrap_err();
+        assert_eq!(e, SceneError::OutOfMemory(MemoryError { kind: CapacityKind::Vertices, needed: 4 }));
+        assert_eq!((s.len(), s.vertex_count()), (0, 0));
+        // The reader reports it on the line of the entity that did not fit.
+        let mut s = starved();
+        let text = "f 1 1 1 1 0 0 0 1\ns 0 0 0 1\ns 1 0 0 1\ns 2 0 0 1\ns 3 0 0 1\n";
+        let e = crate::scene::nff::parse(text, &mut s).unwrap_err();
+        assert_eq!(e.to_string(), "line 5, column 1: scene too large: out of memory for 4 primitives");
+        // ... and takes back the vertices of a polygon that did not fit.
+        let mut s = starved();
+        let text = "f 1 1 1 1 0 0 0 1\np 4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+        let e = crate::scene::nff::parse(text, &mut s).unwrap_err();
+        assert_eq!(e.to_string(), "line 2, column 1: scene too large: out of memory for 4 vertices");
+        assert_eq!((s.len(), s.vertex_count()), (0, 0));
     }
 
     #[test]

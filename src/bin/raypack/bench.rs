@@ -33,7 +33,7 @@
 
 use crate::{AccelArg, Failure, IsaArg, Packet, ScalarArg};
 use raypack::dispatch::Isa;
-use raypack::image::{self, image_size, AccelKind, LoadedScene, Options, MAX_DEPTH};
+use raypack::image::{self, image_size, AccelKind, LoadedScene, Options, ScalarKind, MAX_DEPTH};
 use raypack::prelude::*;
 use std::path::PathBuf;
 
@@ -141,7 +141,7 @@ fn mrays(rays: u64, secs: f64) -> f64 {
     }
 }
 
-fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure> {
+fn bench_scene(args: &BenchArgs, scene: &LoadedScene) -> Result<(), Failure> {
     let info = *scene.info();
     let scalar = info.scalar.name();
     let name = args.scene.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().replace(' ', "_"));
@@ -150,22 +150,7 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
         (w, h) => image_size(w, h, info.nff.camera.map_or((1, 1), |c| (c.width, c.height))),
     };
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get() as u32);
-    let mut threads = args.threads.clone();
-    if threads.is_empty() {
-        threads = vec![1, cores];
-    }
-    threads.sort_unstable();
-    threads.dedup();
-    let mut isas = Vec::new();
-    for a in &args.isa {
-        let isa = a.resolve()?;
-        if !isas.contains(&isa) {
-            isas.push(isa);
-        }
-    }
-    let mut packets: Vec<usize> = args.packet.iter().map(|p| p.width()).collect();
-    packets.sort_unstable();
-    packets.dedup();
+    let mut configs = plan(args, info.scalar, cores)?;
 
     let accel = match &info.bvh {
         Some((b, built)) => format!(
@@ -198,69 +183,7 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
     let primary = Options { mode: Mode::Cast, aov: Aov::Id, ..base };
     let whitted = Options { mode: Mode::Whitted, depth: args.depth, aov: Aov::Color, ..base };
 
-    // Configurations by the instruction set and packet width they really
-    // run with (packets narrower than 8 and fixed point run the baseline
-    // whatever is asked, fixed point one ray per packet): each is measured
-    // once.
-    let mut accels: Vec<AccelKind> = Vec::new();
-    for a in &args.accel {
-        if !accels.contains(&a.kind()) {
-            accels.push(a.kind());
-        }
-    }
-    let mut configs: Vec<Config> = Vec::new();
-    for measure in ["primary", "whitted"] {
-        for &accel in &accels {
-            for &asked in &isas {
-                for &asked_packet in &packets {
-                    let (isa, packet) = runs_with(info.scalar, asked, asked_packet);
-                    for &t in &threads {
-                        if !configs.iter().any(|c| {
-                            c.measure == measure
-                                && c.accel == accel
-                                && c.isa == isa
-                                && c.packet == packet
-                                && c.threads == t
-                        }) {
-                            configs.push(Config {
-                                measure,
-                                accel,
-                                isa,
-                                packet,
-                                threads: t,
-                                times: Vec::new(),
-                                stats: RayStats::default(),
-                            });
-                        }
-                    }
-                }
-            }
-        }
-    }
-    // The first image of each measurement; every other must equal it.
-    let mut reference: [Option<Vec<Rgb8>>; 2] = [None, None];
-    let nothing = || {};
-    for _ in 0..args.rounds {
-        for c in configs.iter_mut() {
-            let (options, slot) = if c.measure == "primary" { (&primary, 0) } else { (&whitted, 1) };
-            let options =
-                Options { packet: c.packet, isa: c.isa, threads: Some(c.threads as usize), accel: c.accel, ..*options };
-            let img = scene.render(&options, &nothing)?;
-            c.times.push(img.time.as_secs_f64());
-            c.stats = img.stats;
-            let pixels = img.pixels;
-            match &reference[slot] {
-                None => reference[slot] = Some(pixels),
-                Some(r) if *r == pixels => {}
-                Some(_) => {
-                    return Err(Failure(format!(
-                        "determinism violated: the {} image of accel {} isa {} packet {} threads {} differs from the first one",
-                        c.measure, accel_name(c.accel), c.isa, c.packet, c.threads
-                    )))
-                }
-            }
-        }
-    }
+    run_rounds(scene, &mut configs, [&primary, &whitted], args.rounds)?;
 
     for c in &configs {
         let (b, m, rays) = (best(&c.times), median(&c.times), c.stats.total());
@@ -296,6 +219,101 @@ fn bench_scene(args: &BenchArgs, scene: &dyn LoadedScene) -> Result<(), Failure>
             line += &format!(" vs_1thread={:.2}", best(&o.times) / b);
         }
         println!("{line}");
+    }
+    Ok(())
+}
+
+/// The configurations `args` asks for, by the instruction set and packet
+/// width they really run with (packets narrower than 8 and fixed point run
+/// the baseline whatever is asked, fixed point one ray per packet): each
+/// is measured once.
+fn plan(args: &BenchArgs, scalar: ScalarKind, cores: u32) -> Result<Vec<Config>, Failure> {
+    let mut threads = args.threads.clone();
+    if threads.is_empty() {
+        threads = vec![1, cores];
+    }
+    threads.sort_unstable();
+    threads.dedup();
+    let mut isas = Vec::new();
+    for a in &args.isa {
+        let isa = a.resolve()?;
+        if !isas.contains(&isa) {
+            isas.push(isa);
+        }
+    }
+    let mut packets: Vec<usize> = args.packet.iter().map(|p| p.width()).collect();
+    packets.sort_unstable();
+    packets.dedup();
+    let mut accels: Vec<AccelKind> = Vec::new();
+    for a in &args.accel {
+        if !accels.contains(&a.kind()) {
+            accels.push(a.kind());
+        }
+    }
+    let mut configs: Vec<Config> = Vec::new();
+    for measure in ["primary", "whitted"] {
+        for &accel in &accels {
+            for &asked in &isas {
+                for &asked_packet in &packets {
+                    let (isa, packet) = runs_with(scalar, asked, asked_packet);
+                    for &t in &threads {
+                        if !configs.iter().any(|c| {
+                            c.measure == measure
+                                && c.accel == accel
+                                && c.isa == isa
+                                && c.packet == packet
+                                && c.threads == t
+                        }) {
+                            configs.push(Config {
+                                measure,
+                                accel,
+                                isa,
+                                packet,
+                                threads: t,
+                                times: Vec::new(),
+                                stats: RayStats::default(),
+                            });
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(configs)
+}
+
+/// Renders every configuration `rounds` times (`[primary, whitted]`
+/// options by measure), recording the times; every image of a measurement
+/// must equal its first.
+fn run_rounds(
+    scene: &LoadedScene,
+    configs: &mut [Config],
+    [primary, whitted]: [&Options; 2],
+    rounds: u32,
+) -> Result<(), Failure> {
+    // The first image of each measurement; every other must equal it.
+    let mut reference: [Option<Vec<Rgb8>>; 2] = [None, None];
+    let nothing = || {};
+    for _ in 0..rounds {
+        for c in configs.iter_mut() {
+            let (options, slot) = if c.measure == "primary" { (primary, 0) } else { (whitted, 1) };
+            let options =
+                Options { packet: c.packet, isa: c.isa, threads: Some(c.threads as usize), accel: c.accel, ..*options };
+            let img = scene.render(&options, &nothing)?;
+            c.times.push(img.time.as_secs_f64());
+            c.stats = img.stats;
+            let pixels = img.pixels;
+            match &reference[slot] {
+                None => reference[slot] = Some(pixels),
+                Some(r) if *r == pixels => {}
+                Some(_) => {
+                    return Err(Failure(format!(
+                        "determinism violated: the {} image of accel {} isa {} packet {} threads {} differs from the first one",
+                        c.measure, accel_name(c.accel), c.isa, c.packet, c.threads
+                    )))
+                }
+            }
+        }
     }
     Ok(())
 }

@@ -54,8 +54,8 @@ pub fn run(path: &Path) -> Result<(), Failure> {
         if let Some((b, built)) = info.bvh {
             line(format!("bvh         {} nodes, {} leaves, depth {}, largest leaf {}, {} unbounded primitives, built in {:.2} ms", b.nodes, b.leaves, b.depth, b.max_leaf, b.unbounded, built.as_secs_f64() * 1e3));
         }
-        let (p, v, m, l) = info.capacity;
-        line(format!("capacity    {p} primitives, {v} vertices, {m} materials, {l} lights"));
+        let per = info.bytes as f64 / c.primitives().max(1) as f64;
+        line(format!("memory      {} bytes for the scene and its tree ({per:.1} per primitive), read in {:.2} ms", info.bytes, info.parse.as_secs_f64() * 1e3));
         out
     })
     .map_err(|e| Failure(format!("{}: {e}", path.display())))?;

@@ -88,6 +88,13 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             "raypack: active lanes per packet of {}: {:.2} primary, {:.2} shadow, {:.2} reflected, {:.2} refracted",
             img.packet, l[0], l[1], l[2], l[3]
         );
+        eprintln!(
+            "raypack: scene: {} primitives read in {:.3} s; {:.1} MB for the scene and its tree ({:.1} bytes per primitive)",
+            info.nff.counts.primitives(),
+            info.parse.as_secs_f64(),
+            info.bytes as f64 / 1e6,
+            info.bytes as f64 / info.nff.counts.primitives().max(1) as f64
+        );
         match info.bvh {
             Some((b, built)) => eprintln!(
                 "raypack: bvh: {} nodes ({} leaves, depth {}), {} primitives outside the tree, built in {:.2} ms",
@@ -131,14 +138,14 @@ pub fn warn_degenerate(args_scene: &std::path::Path, info: &image::SceneInfo, qu
 fn render_scene(
     args: &RenderArgs,
     options: &image::Options,
-    scene: &dyn LoadedScene,
+    scene: &LoadedScene,
 ) -> (Result<image::Image, image::Error>, image::SceneInfo) {
     let info = *scene.info();
     warn_degenerate(&args.scene, &info, args.quiet);
     let size =
         info.nff.camera.map_or((1, 1), |c| image::image_size(options.width, options.height, (c.width, c.height)));
     let full = raypack::camera::Rect { x: 0, y: 0, w: size.0, h: size.1 };
-    let count = image::tile_count(options.region.unwrap_or(full), TILE);
+    let count = options.region.unwrap_or(full).band_count(TILE);
 
     // Progress on stderr, shown only once a render has run for a second,
     // and only to a terminal.

@@ -60,12 +60,6 @@ impl<S: Scalar> AaBox<S> {
 
     /// Outward normal at a point on the surface: the axis of the face the
     /// point is nearest to (ties resolved x, then y, then z).
-    #[inline]
-    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
-        face_normal(p, self.min, self.max)
-    }
-
-    /// [`AaBox::normal`] of every lane of `p`.
     #[inline(always)]
     pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
         face_normals(p, self.min, self.max)
@@ -124,9 +118,9 @@ fn slab_axis<S: Scalar, const W: usize>(o: Lanes<S, W>, d: Lanes<S, W>, lo: S, h
     }
 }
 
-/// [`face_normal`] of every lane of `p`, as lane operations: the same
-/// comparisons and the same choice (the first axis with the smallest
-/// distance; on an axis, the `max` face when strictly nearer) per lane.
+/// Outward normals of the faces of `[min, max]` nearest to the points `p`:
+/// the first axis with the smallest distance; on an axis, the `max` face
+/// when strictly nearer.
 #[inline(always)]
 pub(crate) fn face_normals<S: Scalar, const W: usize>(p: &Vec3xW<S, W>, min: Vec3<S>, max: Vec3<S>) -> Vec3xW<S, W> {
     let (one, zero) = (Lanes::splat(S::ONE), Lanes::<S, W>::zero());
@@ -151,27 +145,6 @@ pub(crate) fn face_normals<S: Scalar, const W: usize>(p: &Vec3xW<S, W>, min: Vec
     n
 }
 
-/// Outward normal of the face of `[min, max]` nearest to `p`.
-#[inline]
-pub(crate) fn face_normal<S: Scalar>(p: Vec3<S>, min: Vec3<S>, max: Vec3<S>) -> Vec3<S> {
-    let mut best = S::MAX;
-    let mut n = Vec3::ZERO;
-    for axis in 0..3 {
-        let lo = (p.axis(axis) - min.axis(axis)).abs();
-        let hi = (max.axis(axis) - p.axis(axis)).abs();
-        let (d, s) = if hi < lo { (hi, S::ONE) } else { (lo, -S::ONE) };
-        if d < best {
-            best = d;
-            n = match axis {
-                0 => Vec3::new(s, S::ZERO, S::ZERO),
-                1 => Vec3::new(S::ZERO, s, S::ZERO),
-                _ => Vec3::new(S::ZERO, S::ZERO, s),
-            };
-        }
-    }
-    n
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -187,8 +160,9 @@ mod tests {
         assert_eq!(hits(&cube(), [0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), vec![4.0, 6.0]);
         assert_eq!(hits(&cube(), [3.0, 0.5, 0.5], [-1.0, 0.0, 0.0]), vec![2.0, 4.0]);
         let b = AaBox::new(Vec3::new(-1.0f32, -1.0, -1.0), Vec3::new(1.0, 1.0, 1.0)).unwrap();
-        assert_eq!(b.normal(Vec3::new(0.2, 1.0, 0.3)), Vec3::new(0.0, 1.0, 0.0));
-        assert_eq!(b.normal(Vec3::new(-1.0, 0.1, 0.3)), Vec3::new(-1.0, 0.0, 0.0));
+        let n = |p: Vec3<f32>| b.normals::<1>(&p.splat()).lane(0);
+        assert_eq!(n(Vec3::new(0.2, 1.0, 0.3)), Vec3::new(0.0, 1.0, 0.0));
+        assert_eq!(n(Vec3::new(-1.0, 0.1, 0.3)), Vec3::new(-1.0, 0.0, 0.0));
     }
 
     #[test]

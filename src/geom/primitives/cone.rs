@@ -138,21 +138,12 @@ impl<S: Scalar> Cone<S> {
         Roots::from_candidates(shift + s0, ok0, shift + s1, ok1, t_min, t_max)
     }
 
-    /// Outward normal (not normalized) at a point on the side.
-    #[inline]
-    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
-        let rel = p - self.base;
-        let (x, y, z) = (rel.dot(self.u), rel.dot(self.v), rel.dot(self.w));
-        // Gradient of x² + y² − r(z)², halved: (x, y, −k·r(z)).
-        let r = self.base_radius + self.slope * z;
-        self.u.scale(x) + self.v.scale(y) - self.w.scale(self.slope * r)
-    }
-
-    /// [`Cone::normal`] of every lane of `p` (the same operations per lane).
+    /// Outward normals (not normalized) at the points `p` on the side.
     #[inline(always)]
     pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
         let rel = p.sub_splat(self.base);
         let (x, y, z) = (rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
+        // Gradient of x² + y² − r(z)², halved: (x, y, −k·r(z)).
         let r = Lanes::splat(self.base_radius) + z * self.slope;
         self.u.splat::<W>().scale_lanes(x) + self.v.splat::<W>().scale_lanes(y)
             - self.w.splat::<W>().scale_lanes(r * self.slope)
@@ -221,7 +212,7 @@ mod tests {
     #[test]
     fn outward_normal() {
         let c = Cone::new(Vec3::new(0.0f32, 0.0, 0.0), 1.0, Vec3::new(0.0, 0.0, 1.0), 0.0).unwrap();
-        let n = c.normal(Vec3::new(0.5, 0.0, 0.5)).normalize_or_zero();
+        let n = c.normals::<1>(&Vec3::new(0.5, 0.0, 0.5).splat()).lane(0).normalize_or_zero();
         let e = Vec3::new(1.0, 0.0, 1.0).normalize_or_zero();
         assert!((n - e).length() < 1e-6, "{n:?}");
     }

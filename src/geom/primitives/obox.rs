@@ -1,6 +1,6 @@
 //! Oriented box: centre, half-extents and an orthonormal frame.
 
-use super::aabox::{face_normal, face_normals, slab_roots};
+use super::aabox::{face_normals, slab_roots};
 use super::error::GeometryError;
 use crate::geom::ray::{RayPacket, Roots};
 use crate::geom::uniform_scale::Similarity;
@@ -96,17 +96,8 @@ impl<S: Scalar> OrientedBox<S> {
         slab_roots(o, d, -self.half, self.half, t_min, t_max, active)
     }
 
-    /// Outward normal at a point on the surface.
-    #[inline]
-    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
-        let rel = p - self.center;
-        let local = Vec3::new(rel.dot(self.u), rel.dot(self.v), rel.dot(self.w));
-        let n = face_normal(local, -self.half, self.half);
-        self.u.scale(n.x) + self.v.scale(n.y) + self.w.scale(n.z)
-    }
-
-    /// [`OrientedBox::normal`] of every lane of `p` (the same operations per
-    /// lane).
+    /// Outward normals at the points `p` on the surface: the nearest face's
+    /// normal in the box's frame, rotated back.
     #[inline(always)]
     pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
         let rel = p.sub_splat(self.center);
@@ -159,7 +150,7 @@ mod tests {
     #[test]
     fn normal_is_rotated_face_normal() {
         let b = rotated();
-        let n = b.normal(Vec3::new(0.5, 0.5, 0.2).scale(2.0f32.sqrt()));
+        let n = b.normals::<1>(&Vec3::new(0.5, 0.5, 0.2).scale(2.0f32.sqrt()).splat()).lane(0);
         let e = Vec3::new(1.0, 1.0, 0.0).normalize_or_zero();
         assert!((n - e).length() < 1e-6, "{n:?}");
     }

@@ -306,19 +306,7 @@ impl<S: Scalar> Quadric<S> {
         Roots::from_candidates(t0, ok0, t1, ok1, t_min, t_max)
     }
 
-    /// Outward normal (the gradient, not normalized) at a point.
-    #[inline]
-    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
-        let [a, b, c, d, e, f, g, h, i, _] = self.k;
-        Vec3::new(
-            S::TWO * a * p.x + d * p.y + e * p.z + g,
-            S::TWO * b * p.y + d * p.x + f * p.z + h,
-            S::TWO * c * p.z + e * p.x + f * p.y + i,
-        )
-    }
-
-    /// [`Quadric::normal`] of every lane of `p` (the same operations per
-    /// lane; products commute exactly, sums keep their order).
+    /// Outward normals (the gradient, not normalized) at the points `p`.
     #[inline(always)]
     pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
         let [a, b, c, d, e, f, g, h, i, _] = self.k;
@@ -459,7 +447,7 @@ mod tests {
     #[test]
     fn gradient_normal_points_outward() {
         let q = Quadric::new([1.0f32, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]).unwrap();
-        assert_eq!(q.normal(Vec3::new(0.0, 1.0, 0.0)), Vec3::new(0.0, 2.0, 0.0));
+        assert_eq!(q.normals::<1>(&Vec3::new(0.0, 1.0, 0.0).splat()).lane(0), Vec3::new(0.0, 2.0, 0.0));
     }
 
     #[test]

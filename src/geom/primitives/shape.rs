@@ -107,24 +107,15 @@ impl<S: Scalar> Shape<S> {
     }
 
     /// Outward geometric normal at a surface point (not normalized; may be
-    /// zero at a singular point such as a cone's apex).
+    /// zero at a singular point such as a cone's apex): [`Shape::normals`]
+    /// at one lane.
     #[inline]
     pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
-        match self {
-            Shape::Sphere(s) => s.normal(p),
-            Shape::Plane(pl) => pl.normal(p),
-            Shape::Polygon(pg) => pg.normal(),
-            Shape::AaBox(b) => b.normal(p),
-            Shape::OrientedBox(b) => b.normal(p),
-            Shape::Quadric(q) => q.normal(p),
-            Shape::Cone(c) => c.normal(p),
-        }
+        self.normals::<1>(&p.splat()).lane(0)
     }
 
-    /// [`Shape::normal`] of every lane of `p` (for the lanes that hit this
-    /// primitive; others hold whatever the formula gives), as lane
-    /// operations: the same operations per lane as the one-point form, so
-    /// the same bits.
+    /// Outward geometric normals at the surface points `p` (for the lanes
+    /// that hit this primitive; others hold whatever the formula gives).
     #[inline(always)]
     pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
         match self {

@@ -88,13 +88,7 @@ impl<S: Scalar> Sphere<S> {
         Roots::from_ordered(near, far, valid, t_min, t_max)
     }
 
-    /// Outward normal (not normalized) at a point on the surface.
-    #[inline]
-    pub fn normal(&self, p: Vec3<S>) -> Vec3<S> {
-        p - self.center
-    }
-
-    /// [`Sphere::normal`] of every lane of `p` (the same operations per lane).
+    /// Outward normals (not normalized) at the points `p` on the surface.
     #[inline(always)]
     pub fn normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
         p.sub_splat(self.center)

@@ -143,28 +143,13 @@ fn box_to_node<S: Scalar>(b: &Aabb) -> (Vec3<S>, Vec3<S>) {
     (Vec3::from_f32(b.min[0], b.min[1], b.min[2]), Vec3::from_f32(b.max[0], b.max[1], b.max[2]))
 }
 
-/// Builds the tree of `scene` into `nodes` (flat, pairs) and `order`
-/// (exactly the scene's primitive count long). The caller checked capacity.
-pub(super) fn build<S: Scalar>(
-    scene: &SceneView<'_, S>,
-    settings: &BuildSettings,
-    nodes: &mut [BvhNode<S>],
-    order: &mut [u32],
-) -> BvhStats {
+/// The bounded primitives first in `order` (index order), then the
+/// unbounded ones; returns the number of bounded primitives and the box
+/// padding: 2⁻¹⁶ of the scene's scale (its largest bounded coordinate, or
+/// `reach` if larger), never zero.
+fn order_bounded_first<S: Scalar>(scene: &SceneView<'_, S>, reach: f32, order: &mut [u32]) -> (usize, f32) {
     let n = order.len();
-    let bins = (settings.bins as usize).clamp(2, MAX_BINS);
-    let max_leaf = settings.max_leaf.max(1);
-    let max_depth = (settings.max_depth as usize).min(MAX_DEPTH);
-    let c_trav = if settings.traversal_cost.is_finite() { settings.traversal_cost.max(0.0) } else { 1.0 };
-    let c_isect = if settings.intersection_cost.is_finite() && settings.intersection_cost > 0.0 {
-        settings.intersection_cost
-    } else {
-        1.0
-    };
-
-    // Bounded primitives first (index order), then the unbounded ones; and
-    // the scene's scale for the padding.
-    let mut scale = if settings.reach.is_finite() { settings.reach.abs() } else { 0.0 };
+    let mut scale = if reach.is_finite() { reach.abs() } else { 0.0 };
     let mut bounded = 0usize;
     for id in 0..n as u32 {
         if let Some(b) = raw_bounds(scene, id) {
@@ -184,9 +169,130 @@ pub(super) fn build<S: Scalar>(
             next += 1;
         }
     }
-    // 2⁻¹⁶ of the scene's scale; never zero.
-    let pad = (scale * (1.0 / 65536.0)).max(f32::MIN_POSITIVE);
+    (bounded, (scale * (1.0 / 65536.0)).max(f32::MIN_POSITIVE))
+}
 
+/// The costs and bins of a build, from its settings.
+#[derive(Clone, Copy)]
+struct Sah {
+    bins: usize,
+    c_trav: f32,
+    c_isect: f32,
+}
+
+/// The cheapest binned split of the primitives `ids` (centroid box
+/// `cent_box`, node box area `parent_area`) over all axes: `(cost, axis,
+/// last bin on the left)`, or `None` if no axis can be split. Ties go to
+/// the lower axis, then the lower bin.
+fn best_split<S: Scalar>(
+    scene: &SceneView<'_, S>,
+    ids: &[u32],
+    pad: f32,
+    cent_box: &Aabb,
+    parent_area: f32,
+    sah: Sah,
+) -> Option<(f32, usize, usize)> {
+    let Sah { bins, c_trav, c_isect } = sah;
+    let mut best: Option<(f32, usize, usize)> = None;
+    for axis in 0..3 {
+        let c_lo = cent_box.min[axis];
+        let extent = cent_box.max[axis] - c_lo;
+        if !(extent > 0.0) {
+            continue;
+        }
+        let k = bins as f32 / extent;
+        let mut bin = [Bin { bounds: Aabb::EMPTY, count: 0 }; MAX_BINS];
+        for &id in ids {
+            let b = padded_bounds(scene, id, pad);
+            let i = bin_of(b.centroid()[axis], c_lo, k, bins);
+            bin[i].bounds.grow(&b);
+            bin[i].count += 1;
+        }
+        // Right-to-left sweep: area·count of bins i+1.. for each split i.
+        let mut right_cost = [0.0f32; MAX_BINS];
+        let mut acc = Aabb::EMPTY;
+        let mut acc_n = 0u32;
+        for i in (1..bins).rev() {
+            acc.grow(&bin[i].bounds);
+            acc_n += bin[i].count;
+            right_cost[i - 1] = if acc_n > 0 { acc.half_area() * acc_n as f32 } else { -1.0 };
+        }
+        let mut acc = Aabb::EMPTY;
+        let mut acc_n = 0u32;
+        for i in 0..bins - 1 {
+            acc.grow(&bin[i].bounds);
+            acc_n += bin[i].count;
+            if acc_n == 0 || right_cost[i] < 0.0 {
+                continue;
+            }
+            let cost = c_trav + c_isect * ((acc.half_area() * acc_n as f32 + right_cost[i]) / parent_area);
+            if best.map_or(true, |(c, _, _)| cost < c) {
+                best = Some((cost, axis, i));
+            }
+        }
+    }
+    best
+}
+
+/// Splits `order[begin..end]` in place: the primitives whose centroid
+/// falls in bins `0..=last` on `axis` to the left. Returns the first index
+/// of the right part.
+fn partition<S: Scalar>(
+    scene: &SceneView<'_, S>,
+    order: &mut [u32],
+    (begin, end): (usize, usize),
+    pad: f32,
+    cent_box: &Aabb,
+    (axis, last, bins): (usize, usize, usize),
+) -> usize {
+    let c_lo = cent_box.min[axis];
+    let k = bins as f32 / (cent_box.max[axis] - c_lo);
+    let (mut i, mut j) = (begin, end);
+    while i < j {
+        let b = padded_bounds(scene, order[i], pad);
+        if bin_of(b.centroid()[axis], c_lo, k, bins) <= last {
+            i += 1;
+        } else {
+            j -= 1;
+            order.swap(i, j);
+        }
+    }
+    i
+}
+
+/// Sorts a leaf's primitives into index order (insertion sort: leaves are
+/// small).
+fn sort_leaf(leaf: &mut [u32]) {
+    for i in 1..leaf.len() {
+        let mut j = i;
+        while j > 0 && leaf[j - 1] > leaf[j] {
+            leaf.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
+
+/// Builds the tree of `scene` into `nodes` (flat, pairs) and `order`
+/// (exactly the scene's primitive count long). The caller checked capacity.
+pub(super) fn build<S: Scalar>(
+    scene: &SceneView<'_, S>,
+    settings: &BuildSettings,
+    nodes: &mut [BvhNode<S>],
+    order: &mut [u32],
+) -> BvhStats {
+    let n = order.len();
+    let bins = (settings.bins as usize).clamp(2, MAX_BINS);
+    let max_leaf = settings.max_leaf.max(1);
+    let max_depth = (settings.max_depth as usize).min(MAX_DEPTH);
+    let c_trav = if settings.traversal_cost.is_finite() { settings.traversal_cost.max(0.0) } else { 1.0 };
+    let c_isect = if settings.intersection_cost.is_finite() && settings.intersection_cost > 0.0 {
+        settings.intersection_cost
+    } else {
+        1.0
+    };
+    let sah = Sah { bins, c_trav, c_isect };
+
+    let (bounded, pad) = order_bounded_first(scene, settings.reach, order);
     let mut stats = BvhStats { primitives: n as u32, unbounded: (n - bounded) as u32, ..BvhStats::default() };
     if bounded == 0 {
         return stats;
@@ -217,47 +323,9 @@ pub(super) fn build<S: Scalar>(
 
         // Best split over all axes: cost relative to the parent's area.
         let parent_area = node_box.half_area();
-        let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, last bin on the left)
         let can_split = count > 1 && (task.depth as usize) < max_depth && parent_area > 0.0;
-        if can_split {
-            for axis in 0..3 {
-                let c_lo = cent_box.min[axis];
-                let extent = cent_box.max[axis] - c_lo;
-                if !(extent > 0.0) {
-                    continue;
-                }
-                let k = bins as f32 / extent;
-                let mut bin = [Bin { bounds: Aabb::EMPTY, count: 0 }; MAX_BINS];
-                for &id in &order[begin..end] {
-                    let b = padded_bounds(scene, id, pad);
-                    let i = bin_of(b.centroid()[axis], c_lo, k, bins);
-                    bin[i].bounds.grow(&b);
-                    bin[i].count += 1;
-                }
-                // Right-to-left sweep: area·count of bins i+1.. for each split i.
-                let mut right_cost = [0.0f32; MAX_BINS];
-                let mut acc = Aabb::EMPTY;
-                let mut acc_n = 0u32;
-                for i in (1..bins).rev() {
-                    acc.grow(&bin[i].bounds);
-                    acc_n += bin[i].count;
-                    right_cost[i - 1] = if acc_n > 0 { acc.half_area() * acc_n as f32 } else { -1.0 };
-                }
-                let mut acc = Aabb::EMPTY;
-                let mut acc_n = 0u32;
-                for i in 0..bins - 1 {
-                    acc.grow(&bin[i].bounds);
-                    acc_n += bin[i].count;
-                    if acc_n == 0 || right_cost[i] < 0.0 {
-                        continue;
-                    }
-                    let cost = c_trav + c_isect * ((acc.half_area() * acc_n as f32 + right_cost[i]) / parent_area);
-                    if best.is_none_or(|(c, _, _)| cost < c) {
-                        best = Some((cost, axis, i));
-                    }
-                }
-            }
-        }
+        let best =
+            if can_split { best_split(scene, &order[begin..end], pad, &cent_box, parent_area, sah) } else { None };
         let leaf_cost = c_isect * count as f32;
         let split = match best {
             Some((cost, axis, last)) if count as u32 > max_leaf || cost < leaf_cost => Some((axis, last)),
@@ -266,14 +334,7 @@ pub(super) fn build<S: Scalar>(
 
         let Some((axis, last)) = split else {
             // Leaf: its primitives in index order.
-            let leaf = &mut order[begin..end];
-            for i in 1..leaf.len() {
-                let mut j = i;
-                while j > 0 && leaf[j - 1] > leaf[j] {
-                    leaf.swap(j - 1, j);
-                    j -= 1;
-                }
-            }
+            sort_leaf(&mut order[begin..end]);
             nodes[task.node as usize] = BvhNode { min: lo, max: hi, link: begin as u32, meta: (count as u32) << 2 };
             stats.leaves += 1;
             stats.depth = stats.depth.max(task.depth);
@@ -282,19 +343,7 @@ pub(super) fn build<S: Scalar>(
         };
 
         // Partition in place: bins 0..=last to the left.
-        let c_lo = cent_box.min[axis];
-        let k = bins as f32 / (cent_box.max[axis] - c_lo);
-        let (mut i, mut j) = (begin, end);
-        while i < j {
-            let b = padded_bounds(scene, order[i], pad);
-            if bin_of(b.centroid()[axis], c_lo, k, bins) <= last {
-                i += 1;
-            } else {
-                j -= 1;
-                order.swap(i, j);
-            }
-        }
-        let mid = i;
+        let mid = partition(scene, order, (begin, end), pad, &cent_box, (axis, last, bins));
         let child = 2 * next_pair;
         next_pair += 1;
         nodes[task.node as usize] = BvhNode { min: lo, max: hi, link: child as u32, meta: axis as u32 };

@@ -1,5 +1,6 @@
 //! A bounding volume hierarchy in fixed memory: binary, built in place with
-//! binned SAH, traversed by whole packets.
+//! binned SAH, traversed by whole packets. With `std`, [`HeapBvh`] holds the
+//! same tree in `Vec`s sized for the scene.
 //!
 //! # Layout
 //! [`Bvh<S, N>`] holds room for a scene of up to `N` primitives:
@@ -36,6 +37,8 @@
 //! the same scene gives the same tree on every target.
 
 mod build;
+#[cfg(feature = "std")]
+mod heap;
 mod node;
 mod traverse;
 
@@ -46,6 +49,8 @@ use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 
 pub use build::BuildSettings;
+#[cfg(feature = "std")]
+pub use heap::{HeapBvh, HeapBvhError};
 pub use node::{BvhNode, BvhStats, MAX_DEPTH};
 
 // The demo scene's capacity (16 primitives): 2·16 nodes of 32 bytes + 16
@@ -120,15 +125,20 @@ impl<S: Scalar, const N: usize> Bvh<S, N> {
 
     /// The tree as slices: the accelerator a tracer queries through.
     pub fn view(&self) -> BvhView<'_, S> {
-        let flat = self.nodes.as_flattened();
-        let used = self.stats.nodes as usize + usize::from(self.stats.nodes > 0); // + the empty slot 1
-        BvhView {
-            nodes: &flat[..used.min(flat.len())],
-            // (`primitives` never exceeds `N`; `get` keeps a bounds check,
-            // a panic path, out of code that must not have one.)
-            order: self.order.get(..self.stats.primitives as usize).unwrap_or(&[]),
-            bounded: self.stats.primitives - self.stats.unbounded,
-        }
+        view_of(self.nodes.as_flattened(), &self.order, self.stats)
+    }
+}
+
+/// The view of a tree built into `nodes` (flat) and `order` with figures
+/// `stats`, whatever holds the arrays.
+fn view_of<'a, S>(nodes: &'a [BvhNode<S>], order: &'a [u32], stats: BvhStats) -> BvhView<'a, S> {
+    let used = stats.nodes as usize + usize::from(stats.nodes > 0); // + the empty slot 1
+    BvhView {
+        nodes: &nodes[..used.min(nodes.len())],
+        // (`get`, not indexing: no bounds check, a panic path, in code that
+        // must not have one.)
+        order: order.get(..stats.primitives as usize).unwrap_or(&[]),
+        bounded: stats.primitives - stats.unbounded,
     }
 }
 
