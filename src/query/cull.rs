@@ -297,16 +297,15 @@ fn span(c0: f32, c1: f32, last: u16) -> Option<(u16, u16)> {
 
 /// Most lights a [`ShadowCull`] holds (the shadow rays of further lights
 /// test every primitive).
-pub const SHADOW_LIGHTS: usize = 4;
+pub const SHADOW_LIGHTS: usize = 2;
 
 /// One primitive as seen from one light: shadow rays whose direction `d`
-/// (towards the light) has `d·axis > limit` cannot reach it.
+/// (towards the light) has `d·axis > limit` cannot reach it. A primitive
+/// that is always a candidate has a zero axis and the limit `S::MAX`.
 #[derive(Clone, Copy, Debug)]
 struct Occluder<S> {
     axis: Vec3<S>,
     limit: S,
-    /// Always a candidate (unbounded, or around the light).
-    always: bool,
 }
 
 /// Per light and primitive, the shadow-ray directions that can reach the
@@ -338,15 +337,24 @@ pub struct ShadowCull<S> {
 }
 
 impl<S: Scalar> ShadowCull<S> {
-    /// The cones of `scene`'s primitives from its lights; an error if the
+    /// A table that culls nothing (every primitive a candidate).
+    pub fn empty() -> Self {
+        let none = Occluder { axis: Vec3::ZERO, limit: S::MAX };
+        ShadowCull { occluders: [[none; CULL_CAPACITY]; SHADOW_LIGHTS], lights: 0, len: 0, eps_limit: S::ZERO }
+    }
+
+    /// The cones of `scene`'s primitives from its lights, written in place
+    /// (the table is a few hundred bytes to a kilobyte: no copies on a
+    /// small stack); an error, and a table that culls nothing, if the
     /// scene has more than [`CULL_CAPACITY`] primitives.
-    pub fn new(scene: &SceneView<'_, S>) -> Result<Self, CullError> {
+    pub fn fill(&mut self, scene: &SceneView<'_, S>) -> Result<(), CullError> {
+        self.lights = 0;
+        self.len = 0;
         let prims = scene.primitives();
         if prims.len() > CULL_CAPACITY {
             return Err(CullError::Capacity { primitives: prims.len() });
         }
-        let none = Occluder { axis: Vec3::ZERO, limit: S::ZERO, always: true };
-        let mut occluders = [[none; CULL_CAPACITY]; SHADOW_LIGHTS];
+        let none = Occluder { axis: Vec3::ZERO, limit: S::MAX };
         let pool = scene.vertices();
         // The scene's extent: lights and bounded primitives.
         let mut extent = 0.0f32;
@@ -367,10 +375,9 @@ impl<S: Scalar> ShadowCull<S> {
         let m = 4.0 * eps * s + 8.0 * libm::sqrtf(rho * s);
         let grow = 1.01 * e_lim + m;
         if !grow.is_finite() {
-            return Err(CullError::Capacity { primitives: prims.len() });
+            return Ok(());
         }
-        let lights = scene.lights().len().min(SHADOW_LIGHTS);
-        for (row, l) in occluders.iter_mut().zip(scene.lights()) {
+        for (row, l) in self.occluders.iter_mut().zip(scene.lights()) {
             let lp = l.position.to_f32();
             for (slot, p) in row.iter_mut().zip(prims) {
                 *slot = match p.shape.bounds(pool) {
@@ -379,7 +386,10 @@ impl<S: Scalar> ShadowCull<S> {
                 };
             }
         }
-        Ok(ShadowCull { occluders, lights, len: prims.len(), eps_limit: S::from_f32(e_lim) })
+        self.lights = scene.lights().len().min(SHADOW_LIGHTS);
+        self.len = prims.len();
+        self.eps_limit = S::from_f32(e_lim);
+        Ok(())
     }
 
     /// The primitives the shadow rays towards light `light` with unit
@@ -400,7 +410,7 @@ impl<S: Scalar> ShadowCull<S> {
         }
         let mut m = !low_bits(self.len);
         for (k, o) in row.iter().take(self.len).enumerate() {
-            if o.always || (lit & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any() {
+            if (lit & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any() {
                 m |= 1 << k;
             }
         }
@@ -428,5 +438,5 @@ fn cone<S: Scalar>(l: [f32; 3], lo: [f32; 3], hi: [f32; 3], grow: f32) -> Option
     // from the light to the centre.
     let axis = [v[0] / dist, v[1] / dist, v[2] / dist];
     let limit = 1.0 / 4096.0 - cos;
-    Some(Occluder { axis: Vec3::from_f32(axis[0], axis[1], axis[2]), limit: S::from_f32(limit), always: false })
+    Some(Occluder { axis: Vec3::from_f32(axis[0], axis[1], axis[2]), limit: S::from_f32(limit) })
 }

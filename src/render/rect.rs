@@ -168,7 +168,16 @@ const BLOCK: u32 = u32::MAX;
 /// per frame.
 pub(crate) struct FrameCull<S> {
     screen: Option<ScreenCull>,
-    shadow: Option<ShadowCull<S>>,
+    shadow: ShadowCull<S>,
+    /// Whether `shadow` was filled.
+    shadowed: bool,
+}
+
+impl<S: Scalar> FrameCull<S> {
+    /// Nothing culled.
+    pub(crate) fn empty() -> Self {
+        FrameCull { screen: None, shadow: ShadowCull::empty(), shadowed: false }
+    }
 }
 
 /// A frame's culling and the primitives the rows being rendered can see.
@@ -251,7 +260,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
-        let cull = self.frame_cull();
+        let mut cull = FrameCull::empty();
+        self.frame_cull(&mut cull);
         self.render_rect_culled::<W>(rect, out, &cull, stats)
     }
 
@@ -259,15 +269,15 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// Whitted mode of shadow rays, if the accelerator takes candidates and
     /// the scene fits the tables; `None` (every primitive tested)
     /// otherwise.
-    pub(crate) fn frame_cull(&self) -> FrameCull<S> {
+    pub(crate) fn frame_cull(&self, cull: &mut FrameCull<S>) {
         if !A::CULLS {
-            return FrameCull { screen: None, shadow: None };
+            return;
         }
         let scene = self.tracer.scene();
-        let whitted = self.tracer.settings().mode == Mode::Whitted && self.aov == Aov::Color;
-        FrameCull {
-            screen: ScreenCull::new(scene, &self.camera).ok(),
-            shadow: if whitted { ShadowCull::new(scene).ok() } else { None },
+        cull.screen = ScreenCull::new(scene, &self.camera).ok();
+        if self.tracer.settings().mode == Mode::Whitted && self.aov == Aov::Color {
+            // Filled in place (see `ShadowCull::fill`).
+            cull.shadowed = cull.shadow.fill(scene).is_ok();
         }
     }
 
@@ -286,7 +296,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         // adaptive render traces around it) can see.
         let cull = frame.screen.as_ref();
         let band = cull.map_or(ALL, |c| c.rows(rect.y.saturating_sub(1), rect.y.saturating_add(rect.h)));
-        let cull = Culling { cull, band, shadow: frame.shadow.as_ref() };
+        let shadow = if frame.shadowed { Some(&frame.shadow) } else { None };
+        let cull = Culling { cull, band, shadow };
         // Saturating (a 32-bit usize can overflow): an impossible size is
         // simply larger than any buffer.
         let needed = (rect.w as usize).saturating_mul(rect.h as usize);
