@@ -334,8 +334,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     )]
                     |x, y| {
                         let all = Mask::splat(true);
-                        let (c, active) =
-                            self.supersample::<W>(x, y, rect, n, all, cull.at::<W>(x, y), cull.shadow, stats);
+                        let (c, active) = self.supersample::<W>(x, y, rect, n, all, &cull, stats);
                         (c, active)
                     },
                 )
@@ -394,10 +393,10 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         clip: Rect,
         n: u32,
         want: Mask<W>,
-        candidates: Candidates,
-        shadows: Option<&ShadowCull<S>>,
+        cull: &Culling<'_, S>,
         stats: &mut RayStats,
     ) -> ([Rgb8; W], Mask<W>) {
+        let candidates = cull.at::<W>(x, y);
         let weight = Lanes::splat(S::ONE / S::from_i32((n * n) as i32));
         let zero = Lanes::<S, W>::zero();
         let (mut r, mut g, mut b) = (zero, zero, zero);
@@ -413,7 +412,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 if active.none() {
                     continue;
                 }
-                let c = self.tracer.trace_among(&ray, active, candidates, shadows, stats);
+                let c = self.tracer.trace_among(&ray, active, candidates, cull.shadow, stats);
                 r = r + Lanes::select(active, c.x * weight, zero);
                 g = g + Lanes::select(active, c.y * weight, zero);
                 b = b + Lanes::select(active, c.z * weight, zero);
@@ -509,8 +508,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                             marked.set(l, left || right || up || down);
                         }
                         if marked.any() {
-                            let (fine, traced) =
-                                self.supersample::<W>(x, y, block, n, marked, cull.at::<W>(x, y), cull.shadow, stats);
+                            let (fine, traced) = self.supersample::<W>(x, y, block, n, marked, cull, stats);
                             for (l, p) in px.iter_mut().enumerate() {
                                 if traced.get(l) {
                                     *p = fine[l];
