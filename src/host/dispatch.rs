@@ -48,11 +48,11 @@
 #![allow(unsafe_code)]
 
 use crate::geom::camera::Rect;
-use crate::geom::ray::RayPacket;
 use crate::num::lanes::{Lanes, Mask};
-use crate::num::scalar::Scalar;
 use crate::query::{Accelerator, Hit, PacketJob, SceneMismatch};
+use crate::geom::ray::RayPacket;
 use crate::render::{BufferTooSmall, Renderer, Rgb8};
+use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 use crate::trace::RayStats;
 
