@@ -168,7 +168,16 @@ const BLOCK: u32 = u32::MAX;
 /// per frame.
 pub(crate) struct FrameCull<S> {
     screen: Option<ScreenCull>,
-    shadow: Option<ShadowCull<S>>,
+    shadow: ShadowCull<S>,
+    /// Whether `shadow` was filled.
+    shadowed: bool,
+}
+
+impl<S: Scalar> FrameCull<S> {
+    /// Nothing culled.
+    pub(crate) fn empty() -> Self {
+        FrameCull { screen: None, shadow: ShadowCull::empty(), shadowed: false }
+    }
 }
 
 /// A frame's culling and the primitives the rows being rendered can see.
@@ -251,7 +260,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         out: &mut [Rgb8],
         stats: &mut RayStats,
     ) -> Result<(), BufferTooSmall> {
-        let cull = self.frame_cull();
+        let mut cull = FrameCull::empty();
+        self.frame_cull(&mut cull);
         self.render_rect_culled::<W>(rect, out, &cull, stats)
     }
 
@@ -259,15 +269,15 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// Whitted mode of shadow rays, if the accelerator takes candidates and
     /// the scene fits the tables; `None` (every primitive tested)
     /// otherwise.
-    pub(crate) fn frame_cull(&self) -> FrameCull<S> {
+    pub(crate) fn frame_cull(&self, cull: &mut FrameCull<S>) {
         if !A::CULLS {
-            return FrameCull { screen: None, shadow: None };
+            return;
         }
         let scene = self.tracer.scene();
-        let whitted = self.tracer.settings().mode == Mode::Whitted && self.aov == Aov::Color;
-        FrameCull {
-            screen: ScreenCull::new(scene, &self.camera).ok(),
-            shadow: if whitted { ShadowCull::new(scene).ok() } else { None },
+        cull.screen = ScreenCull::new(scene, &self.camera).ok();
+        if self.tracer.settings().mode == Mode::Whitted && self.aov == Aov::Color {
+            // Filled in place (see `ShadowCull::fill`).
+            cull.shadowed = cull.shadow.fill(scene).is_ok();
         }
     }
 
@@ -286,7 +296,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         // adaptive render traces around it) can see.
         let cull = frame.screen.as_ref();
         let band = cull.map_or(ALL, |c| c.rows(rect.y.saturating_sub(1), rect.y.saturating_add(rect.h)));
-        let cull = Culling { cull, band, shadow: frame.shadow.as_ref() };
+        let shadow = if frame.shadowed { Some(&frame.shadow) } else { None };
+        let cull = Culling { cull, band, shadow };
         // Saturating (a 32-bit usize can overflow): an impossible size is
         // simply larger than any buffer.
         let needed = (rect.w as usize).saturating_mul(rect.h as usize);
@@ -323,8 +334,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     )]
                     |x, y| {
                         let all = Mask::splat(true);
-                        let (c, active) =
-                            self.supersample::<W>(x, y, rect, n, all, cull.at::<W>(x, y), cull.shadow, stats);
+                        let (c, active) = self.supersample::<W>(x, y, rect, n, all, &cull, stats);
                         (c, active)
                     },
                 )
@@ -383,10 +393,10 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
         clip: Rect,
         n: u32,
         want: Mask<W>,
-        candidates: Candidates,
-        shadows: Option<&ShadowCull<S>>,
+        cull: &Culling<'_, S>,
         stats: &mut RayStats,
     ) -> ([Rgb8; W], Mask<W>) {
+        let candidates = cull.at::<W>(x, y);
         let weight = Lanes::splat(S::ONE / S::from_i32((n * n) as i32));
         let zero = Lanes::<S, W>::zero();
         let (mut r, mut g, mut b) = (zero, zero, zero);
@@ -402,7 +412,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 if active.none() {
                     continue;
                 }
-                let c = self.tracer.trace_among(&ray, active, candidates, shadows, stats);
+                let c = self.tracer.trace_among(&ray, active, candidates, cull.shadow, stats);
                 r = r + Lanes::select(active, c.x * weight, zero);
                 g = g + Lanes::select(active, c.y * weight, zero);
                 b = b + Lanes::select(active, c.z * weight, zero);
@@ -498,8 +508,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                             marked.set(l, left || right || up || down);
                         }
                         if marked.any() {
-                            let (fine, traced) =
-                                self.supersample::<W>(x, y, block, n, marked, cull.at::<W>(x, y), cull.shadow, stats);
+                            let (fine, traced) = self.supersample::<W>(x, y, block, n, marked, cull, stats);
                             for (l, p) in px.iter_mut().enumerate() {
                                 if traced.get(l) {
                                     *p = fine[l];
