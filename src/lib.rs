@@ -49,16 +49,23 @@
 #![deny(missing_docs)]
 #![deny(unsafe_code)]
 
-// The layers, bottom to top: num, geom, scene, query, trace, render, host. A
-// module uses only its own layer and those below (scripts/module-graph.py).
+// The layers, bottom to top; a module uses only its own layer and those below
+// (scripts/module-graph.py checks it).
+// (One per paragraph: rustfmt sorts adjacent declarations.)
+pub mod num;
+
 pub mod geom;
+
+pub mod scene;
+
+pub mod query;
+
+pub mod trace;
+
+pub mod render;
+
 #[cfg(feature = "std")]
 pub mod host;
-pub mod num;
-pub mod query;
-pub mod render;
-pub mod scene;
-pub mod trace;
 
 // The paths of the flat layout, kept working for users.
 #[doc(hidden)]

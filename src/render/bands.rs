@@ -288,7 +288,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
             return Err(BandError::BufferTooSmall(BufferTooSmall { needed: full.w as usize, provided: band.len() }));
         }
         // Screen culling worked out once for the frame, not per band.
-        let mut cull = crate::render::rect::FrameCull::empty();
+        let mut cull = crate::render::renderer::FrameCull::empty();
         self.frame_cull(&mut cull);
         let mut y = 0;
         while y < full.h {
