@@ -52,12 +52,13 @@
 // The layers, bottom to top: num, geom, scene, query, trace, render, host. A
 // module uses only its own layer and those below (scripts/module-graph.py).
 pub mod geom;
-pub mod scene;
-pub mod query;
-pub mod trace;
-pub mod render;
 #[cfg(feature = "std")]
 pub mod host;
+pub mod num;
+pub mod query;
+pub mod render;
+pub mod scene;
+pub mod trace;
 
 // The paths of the flat layout, kept working for users.
 #[doc(hidden)]
@@ -67,11 +68,11 @@ pub use geom::{camera, fixed_range as range, primitives, ray, uniform_scale as s
 pub use host::{dispatch, image};
 #[doc(hidden)]
 pub use num::{fixed32, fixed64 as fixed, lanes, scalar, unit_pow as pow};
+#[doc(hidden)]
+pub use render::bands as output;
 #[cfg(feature = "embedded-graphics")]
 #[doc(hidden)]
 pub use render::draw_target;
-#[doc(hidden)]
-pub use render::bands as output;
 #[doc(hidden)]
 pub use scene::{demo, nff};
 
@@ -84,12 +85,12 @@ pub use num::scalar::Scalar;
 /// The types most programs need.
 pub mod prelude {
     pub use crate::geom::camera::{Camera, CameraError, Rect};
-    pub use crate::num::fixed64::Fixed;
     pub use crate::geom::primitives::Quadric;
+    pub use crate::geom::vec3::Vec3;
+    pub use crate::num::fixed64::Fixed;
+    pub use crate::num::scalar::Scalar;
     pub use crate::query::{AccelChoice, Accelerator, BruteForce, BuildSettings, Bvh, BvhError, BvhView};
     pub use crate::render::{Aov, Renderer, Rgb8, Sampling};
-    pub use crate::num::scalar::Scalar;
     pub use crate::scene::{Material, Scene, SceneError, SceneView};
     pub use crate::trace::{Mode, RayStats, TraceError, TraceSettings, Tracer};
-    pub use crate::geom::vec3::Vec3;
 }

@@ -10,11 +10,11 @@
 //! Packets cover adjacent pixels: 1×1 for width 1, 2×2 for 4, 4×2 for 8,
 //! 4×4 for 16 (see [`packet_shape`]).
 
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::fixed_range::{self, RangeError, RangeItem};
 use crate::geom::ray::RayPacket;
-use crate::num::scalar::Scalar;
 use crate::geom::vec3::Vec3;
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// Why a camera could not be built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

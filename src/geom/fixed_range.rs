@@ -27,8 +27,8 @@
 //! This module is a leaf: it knows shapes and numbers, not scenes or cameras.
 
 use crate::geom::primitives::Shape;
-use crate::num::scalar::Scalar;
 use crate::geom::vec3::Vec3;
+use crate::num::scalar::Scalar;
 
 /// What exceeded the representable range.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -182,8 +182,8 @@ pub fn check_intermediates<S: Scalar>(shape: &Shape<S>, r: f32, index: u32) -> R
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::num::fixed64::Fixed;
     use crate::geom::primitives::{Cone, Quadric, Sphere};
+    use crate::num::fixed64::Fixed;
 
     fn v<S: Scalar>(x: f32, y: f32, z: f32) -> Vec3<S> {
         Vec3::from_f32(x, y, z)

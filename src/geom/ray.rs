@@ -4,9 +4,9 @@
 //! ray is the width-1 packet ([`Ray<S>`]), so the scalar tracer and the packet
 //! tracer are one and the same code.
 
+use crate::geom::vec3::{Vec3, Vec3xW};
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
-use crate::geom::vec3::{Vec3, Vec3xW};
 
 /// `W` rays: origins and unit directions, structure of arrays.
 #[derive(Clone, Copy, Debug)]

@@ -15,8 +15,8 @@
 //! `x' = (x − origin)·scale` for points, `l' = l·scale` for lengths;
 //! directions and unit normals are unchanged.
 
-use crate::num::scalar::Scalar;
 use crate::geom::vec3::Vec3;
+use crate::num::scalar::Scalar;
 
 /// A uniform scale about a point: `x' = (x − origin)·scale`.
 #[derive(Clone, Copy, Debug, PartialEq)]

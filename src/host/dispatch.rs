@@ -48,11 +48,11 @@
 #![allow(unsafe_code)]
 
 use crate::geom::camera::Rect;
-use crate::num::lanes::{Lanes, Mask};
-use crate::query::{Accelerator, Hit, PacketJob, SceneMismatch};
 use crate::geom::ray::RayPacket;
-use crate::render::{BufferTooSmall, Renderer, Rgb8};
+use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
+use crate::query::{Accelerator, Hit, PacketJob, SceneMismatch};
+use crate::render::{BufferTooSmall, Renderer, Rgb8};
 use crate::scene::SceneView;
 use crate::trace::RayStats;
 

@@ -28,15 +28,15 @@
 //! [`render_tiles`] is the tile loop itself, for scenes built in code.
 
 use crate::geom::camera::{CameraError, Rect};
+use crate::geom::fixed_range::RangeError;
+use crate::geom::uniform_scale::Similarity;
 use crate::host::dispatch::{self, Isa};
 use crate::num::fixed32::Fixed32;
-use crate::scene::nff::{self, NffCounts, NffError, NffInfo};
-use crate::query::{AccelChoice, Accelerator, BuildSettings, Bvh, BvhError, BvhStats};
-use crate::geom::fixed_range::RangeError;
-use crate::render::{Aov, BufferTooSmall, Renderer, Rgb8, Sampling};
 use crate::num::scalar::Scalar;
+use crate::query::{AccelChoice, Accelerator, BuildSettings, Bvh, BvhError, BvhStats};
+use crate::render::{Aov, BufferTooSmall, Renderer, Rgb8, Sampling};
+use crate::scene::nff::{self, NffCounts, NffError, NffInfo};
 use crate::scene::{Scene, SceneError, SceneView};
-use crate::geom::uniform_scale::Similarity;
 use crate::trace::{Mode, RayStats, TraceError, TraceSettings, Tracer};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};

@@ -3,8 +3,8 @@
 use super::accelerator::{Accelerator, Hit, SceneMismatch};
 use super::brute::BruteForce;
 use super::bvh::BvhView;
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::RayPacket;
+use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
 

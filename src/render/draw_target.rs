@@ -58,10 +58,10 @@
 //! [embedded-graphics]: https://docs.rs/embedded-graphics/0.8
 
 use crate::geom::camera::Rect;
-use crate::render::bands::{rgb565, BandError, Dither, RectPositions};
-use crate::query::Accelerator;
-use crate::render::{BufferTooSmall, Renderer, Rgb8};
 use crate::num::scalar::Scalar;
+use crate::query::Accelerator;
+use crate::render::bands::{rgb565, BandError, Dither, RectPositions};
+use crate::render::{BufferTooSmall, Renderer, Rgb8};
 use crate::trace::RayStats;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
@@ -215,8 +215,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
 mod tests {
     extern crate std;
     use super::*;
-    use crate::scene::demo::{demo_camera, demo_scene, DemoScene};
     use crate::render::bands::{band_rows, Fnv1a, BAYER8, CHECKSUM_DITHER};
+    use crate::scene::demo::{demo_camera, demo_scene, DemoScene};
     use crate::trace::{TraceSettings, Tracer};
     use embedded_graphics::draw_target::DrawTargetExt;
     use embedded_graphics::mock_display::MockDisplay;

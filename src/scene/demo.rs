@@ -3,10 +3,10 @@
 
 use crate::geom::camera::{Camera, CameraError};
 use crate::geom::primitives::Quadric;
-use crate::num::scalar::Scalar;
-use crate::scene::{Material, Scene, SceneError};
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
+use crate::num::scalar::Scalar;
+use crate::scene::{Material, Scene, SceneError};
 
 /// Capacity type of the demo scene.
 pub type DemoScene<S> = Scene<S, 16, 32, 8, 2>;

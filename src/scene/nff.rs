@@ -70,10 +70,10 @@
 
 use crate::geom::camera::{Camera, CameraError};
 use crate::geom::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Quadric, Shape, Sphere};
-use crate::num::scalar::Scalar;
-use crate::scene::{CapacityError, CapacityKind, Material, Scene, SceneError};
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
+use crate::num::scalar::Scalar;
+use crate::scene::{CapacityError, CapacityKind, Material, Scene, SceneError};
 
 /// A short copy of an offending piece of input (up to 24 bytes, cut at a
 /// character boundary), so errors can quote it without borrowing the text.

@@ -7,11 +7,13 @@
 //! plain data: how a scene is searched is the business of
 //! [`crate::query`].
 
-use crate::geom::primitives::{AaBox, Cone, GeometryError, OrientedBox, Plane, Polygon, Quadric, Shape, ShapeKind, Sphere};
 use crate::geom::fixed_range::{self, RangeError, RangeItem};
-use crate::num::scalar::Scalar;
+use crate::geom::primitives::{
+    AaBox, Cone, GeometryError, OrientedBox, Plane, Polygon, Quadric, Shape, ShapeKind, Sphere,
+};
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
+use crate::num::scalar::Scalar;
 use heapless::Vec as HVec;
 
 /// Surface description for the Whitted model.

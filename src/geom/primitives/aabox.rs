@@ -2,11 +2,11 @@
 //! oriented box, which runs it in the box's own frame.
 
 use super::error::GeometryError;
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::{RayPacket, Roots};
-use crate::num::scalar::Scalar;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// An axis-aligned box `[min, max]` (solid for visibility: a ray crosses its
 /// surface where it enters and where it leaves).

@@ -3,11 +3,11 @@
 //! coordinate, not by an axis-aligned clip box.
 
 use super::error::GeometryError;
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::{RayPacket, Roots};
-use crate::num::scalar::Scalar;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// An open truncated cone (a cylinder when both radii are equal) from `base`
 /// (radius `base_radius`) to `apex` (radius `apex_radius`), without caps.

@@ -36,9 +36,9 @@ pub(crate) mod test_util {
     //! that all of them agree bit for bit with the width-1 result.
     extern crate std;
     use super::Shape;
-    use crate::num::lanes::{Lanes, Mask};
     use crate::geom::ray::RayPacket;
     use crate::geom::vec3::Vec3;
+    use crate::num::lanes::{Lanes, Mask};
     use std::vec::Vec;
 
     fn filler(i: usize) -> ([f32; 3], [f32; 3]) {

@@ -2,11 +2,11 @@
 
 use super::aabox::{face_normal, face_normals, slab_roots};
 use super::error::GeometryError;
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::{RayPacket, Roots};
-use crate::num::scalar::Scalar;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// A box with its own axes `u`, `v`, `w = u × v`.
 #[derive(Clone, Copy, Debug, PartialEq)]

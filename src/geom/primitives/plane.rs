@@ -1,11 +1,11 @@
 //! Infinite plane `Ax + By + Cz + D = 0`.
 
 use super::error::GeometryError;
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::{RayPacket, Roots};
-use crate::num::scalar::Scalar;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// An infinite plane, stored with a unit normal: `n·x + d = 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -13,11 +13,11 @@
 
 use super::error::GeometryError;
 use super::plane::{moved_offset, plane_crossing};
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::{RayPacket, Roots};
-use crate::num::scalar::Scalar;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// A planar polygon (or patch) whose vertices are in a vertex pool.
 #[derive(Clone, Copy, Debug, PartialEq)]

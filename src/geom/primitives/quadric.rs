@@ -2,11 +2,11 @@
 //! the named quadrics built on it, and an optional clip box.
 
 use super::error::GeometryError;
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::{RayPacket, Roots};
-use crate::num::scalar::Scalar;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// A quadric surface, optionally clipped to an axis-aligned box: only the part
 /// inside the box exists, and a ray passes through the clipped-away part to

@@ -2,11 +2,11 @@
 //! operations every primitive has, dispatched on its kind.
 
 use super::{AaBox, Cone, OrientedBox, Plane, Polygon, Quadric, Sphere};
-use crate::num::lanes::{Lanes, Mask};
 use crate::geom::ray::{RayPacket, Roots};
-use crate::num::scalar::Scalar;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 
 /// The kinds of primitive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -5,9 +5,9 @@
 //! axis and then the lower bin; leaves list their primitives in index order.
 
 use super::node::{BvhNode, BvhStats, MAX_DEPTH};
+use crate::geom::vec3::Vec3;
 use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
-use crate::geom::vec3::Vec3;
 
 /// Most bins a build may use per axis.
 pub const MAX_BINS: usize = 32;

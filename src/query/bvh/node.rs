@@ -1,7 +1,7 @@
 //! A tree node, the depth bound, and the figures of a built tree.
 
-use crate::num::scalar::Scalar;
 use crate::geom::vec3::Vec3;
+use crate::num::scalar::Scalar;
 
 /// The deepest a tree can be (root at depth 0). The builder makes a leaf at
 /// this depth whatever its size, so the traversal stack (`MAX_DEPTH + 1`

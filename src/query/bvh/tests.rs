@@ -4,11 +4,11 @@
 
 extern crate std;
 use super::*;
+use crate::geom::ray::{Ray, RayPacket};
+use crate::geom::vec3::Vec3;
 use crate::num::lanes::{Lanes, Mask};
 use crate::query::{Accelerator, BruteForce, SceneMismatch};
-use crate::geom::ray::{Ray, RayPacket};
 use crate::scene::{Material, Scene};
-use crate::geom::vec3::Vec3;
 use std::vec;
 
 type Big = Scene<f32, 256, 1024, 4, 2>;

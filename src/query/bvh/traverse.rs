@@ -23,13 +23,13 @@
 
 use super::node::{BvhNode, MAX_DEPTH};
 use super::BvhView;
+use crate::geom::ray::RayPacket;
+use crate::geom::vec3::Vec3xW;
 use crate::num::lanes::{Lanes, Mask};
+use crate::num::scalar::Scalar;
 use crate::query::accelerator::{Accelerator, Hit, SceneMismatch};
 use crate::query::brute;
-use crate::geom::ray::RayPacket;
-use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
-use crate::geom::vec3::Vec3xW;
 use heapless::Vec as HVec;
 
 /// Transmissive crossings a shadow query records before falling back.
