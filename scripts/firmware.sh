@@ -60,9 +60,9 @@ BOARDS=(
   "riscv-virt-v|riscv32imafc-unknown-none-elf|release|-|f32-w1,f32-w4,f32-w8|qemu-system-riscv32 -M virt -cpu rv32,v=true,vlen=128,vext_spec=v1.0 -bios none -nographic -semihosting $ICOUNT -kernel"
   # Raspberry Pi Pico + Pimoroni Pico Display Pack: no QEMU machine models the
   # RP2040, so it is built, sized and proved panic-free only. Its frame is the
-  # code the QEMU boards run (common's render_demo_into), host-tested down to
-  # the SPI bytes; its instruction count is microbit's fixed32 (same Armv6-M
-  # code, width 1).
+  # code the QEMU boards run, split between its two cores (common's dual),
+  # host-tested down to the SPI bytes; its instruction counts are microbit's
+  # fixed32 shares (same Armv6-M code, width 1).
   "rp2040-pico-display|thumbv6m-none-eabi|release|1|fixed32|-"
 )
 QEMU_TIMEOUT=${RAYPACK_QEMU_TIMEOUT:-300}

@@ -386,6 +386,9 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
     /// box-filtered mean of an `n × n` grid of subsamples, tracing only the
     /// lanes in `want`; returns them and the lanes traced.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    // Private and inlined: a struct for the packet's position, rectangle and
+    // lanes would only be unpacked again here.
+    #[allow(clippy::too_many_arguments)]
     fn supersample<const W: usize>(
         &self,
         x: u32,

@@ -422,6 +422,9 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// Local shading (ambient, diffuse, Phong highlight) of the hit lanes,
     /// with shadow rays in Whitted mode.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    // Private and inlined: the arguments are the packet's state at one
+    // bounce, which a struct would only carry here to be unpacked again.
+    #[allow(clippy::too_many_arguments)]
     fn local<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,

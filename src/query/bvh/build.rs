@@ -226,7 +226,7 @@ fn best_split<S: Scalar>(
                 continue;
             }
             let cost = c_trav + c_isect * ((acc.half_area() * acc_n as f32 + right_cost[i]) / parent_area);
-            if best.map_or(true, |(c, _, _)| cost < c) {
+            if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, i));
             }
         }
