@@ -8,8 +8,9 @@
 #   ./scripts/web.sh bench    # build, then packet 4 vs 1 in the browser, interleaved (docs/web.md)
 #
 # Installs what it needs on a fresh Debian machine: the rustup target
-# wasm32-unknown-unknown, and for `test`/`bench` Debian's chromium and wabt
-# (wasm-objdump, for the panic-path check). Nothing else is downloaded.
+# wasm32-unknown-unknown, Debian's binaryen (wasm-opt, which shrinks the
+# module), and for `test`/`bench` Debian's chromium and wabt (wasm-objdump,
+# for the panic-path check). Nothing else is downloaded.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,6 +20,7 @@ die() { printf 'web.sh: error: %s\n' "$*" >&2; exit 1; }
 MODE=${1:-build}
 DIST=web/dist
 WASM_OUT=web/target/wasm32-unknown-unknown/release/raypack_web.wasm
+WASM_OPT=web/target/raypack_web.opt.wasm
 # The .wasm budget (1 KB = 1000 bytes).
 MAX_KB=${RAYPACK_WASM_MAX_KB:-200}
 
@@ -38,6 +40,9 @@ build() {
   rustup target add wasm32-unknown-unknown >/dev/null
   say "web: cargo build --release --target wasm32-unknown-unknown (+simd128)"
   (cd web && cargo build --release --locked --target wasm32-unknown-unknown)
+  apt_install binaryen wasm-opt
+  say "web: wasm-opt -Oz ($(wasm-opt --version))"
+  wasm-opt -Oz "$WASM_OUT" -o "$WASM_OPT"
   say "web: assemble $DIST"
   rm -rf "$DIST"
   mkdir -p "$DIST/scenes"
@@ -49,8 +54,11 @@ d = sys.argv[1]
 names = sorted(f[:-4] for f in os.listdir(d) if f.endswith(".nff"))
 open(os.path.join(d, "index.json"), "w").write(json.dumps(names) + "\n")
 PY
-  # The module without its custom sections (names, producers): what the page loads.
-  python3 web/test/check_module.py "$WASM_OUT" --strip-to "$DIST/raypack_web.wasm" --max-kb "$MAX_KB" ${CHECK_ARGS:-}
+  # The module without its custom sections (names, producers): what the page
+  # loads. Panic paths are traced in the module as rustc linked it (with its
+  # names; wasm-opt only removes and rewrites code).
+  python3 web/test/check_module.py "$WASM_OPT" --strip-to "$DIST/raypack_web.wasm" --max-kb "$MAX_KB" \
+    ${CHECK_ARGS:+$CHECK_ARGS --panic-from "$WASM_OUT"}
 }
 
 cli() { # the host raypack command line (debug build, the features `cargo test --all-features` built it with)

@@ -31,7 +31,7 @@
 //! - `×`: the exact 32×32→64 product, rounded to nearest with ties towards
 //!   +∞ (`⌊(a·b + 2²³)/2²⁴⌋`, the rule of [`crate::num::fixed64::Fixed`]),
 //!   saturating. Three implementations give the same bits: an `i64` product
-//!   and a clamp on 64-bit hosts (one `imul`); on 32-bit targets with a long
+//!   and a clamp on 64-bit hosts and WebAssembly (one `imul`, `i64.mul`); on 32-bit targets with a long
 //!   multiply (`mul`+`mulh` on RV32IMAC, `smull` on Armv7-M) the product's
 //!   two words, half an ulp added with its carry, and a range test that is
 //!   one compare for products below 64 in magnitude; and on 32-bit Arm
@@ -46,7 +46,7 @@
 //!   (software leading-zero count) and the resulting two-word by one-word
 //!   division, whose remainder gives the exact rounding, is done per target
 //!   with the same exact result (tested against each other): the native
-//!   `u64` division on 64-bit hosts; two 32/32-bit hardware divisions
+//!   `u64` division on 64-bit hosts and WebAssembly; two 32/32-bit hardware divisions
 //!   (Knuth's algorithm D on 16-bit digits) on RV32IMAC and Armv7-M; and on
 //!   Armv6-M, which has no divide instruction, schoolbook division in base
 //!   2¹⁶ with a 16-bit reciprocal of the divisor's top half (a linear seed
@@ -314,7 +314,7 @@ impl core::fmt::Debug for Fixed32 {
 /// up by half its width when the upper half is empty; LLVM compiles the
 /// `bool as u32` selects into compare-and-shift sequences.
 #[inline(always)]
-#[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+#[cfg_attr(any(target_pointer_width = "64", target_arch = "wasm32"), allow(dead_code))]
 fn clz_soft(mut x: u32) -> u32 {
     let mut n = 0;
     let s = ((x >> 16 == 0) as u32) << 4;
@@ -332,15 +332,15 @@ fn clz_soft(mut x: u32) -> u32 {
     n + ((x >> 31) ^ 1)
 }
 
-/// Leading zeros of a nonzero `x`: the instruction on 64-bit hosts, the
+/// Leading zeros of a nonzero `x`: the instruction on 64-bit hosts and WebAssembly, the
 /// binary search elsewhere (same result, tested).
 #[inline(always)]
 fn clz(x: u32) -> u32 {
-    #[cfg(target_pointer_width = "64")]
+    #[cfg(any(target_pointer_width = "64", target_arch = "wasm32"))]
     {
         x.leading_zeros()
     }
-    #[cfg(not(target_pointer_width = "64"))]
+    #[cfg(not(any(target_pointer_width = "64", target_arch = "wasm32")))]
     {
         clz_soft(x)
     }
@@ -401,7 +401,7 @@ fn mul16x32(w: u32, d: u32) -> u64 {
 // (round half up of the exact product), has three implementations with the
 // same bits for every pair, chosen per target and tested against each
 // other and against an `i128` reference on the host:
-// - 64-bit hosts: one `i64` product and a clamp ([`mul_raw_native`]);
+// - 64-bit hosts and WebAssembly (native `i64` arithmetic): one `i64` product and a clamp ([`mul_raw_native`]);
 // - 32-bit targets with a long multiply (RV32IMAC's `mul`+`mulh`, Armv7-M's
 //   `smull`): the 64-bit product as two words ([`mul_raw_words`]);
 // - Armv6-M, which has none (LLVM would call `__aeabi_lmul`, a full 64×64
@@ -412,11 +412,11 @@ fn mul16x32(w: u32, d: u32) -> u64 {
 // in magnitude (64 for Q8.24: all a scene in the coordinate box normally
 // forms), and the exact clamp out of line for the rest.
 
-/// The portable product (64-bit hosts): one exact `i64` product
+/// The portable product (64-bit hosts and WebAssembly): one exact `i64` product
 /// (|a·b| ≤ 2⁶², so adding half an ulp cannot overflow), an arithmetic shift
 /// (which floors, so ties go towards +∞), then the clamp.
 #[inline(always)]
-#[cfg_attr(not(target_pointer_width = "64"), allow(dead_code))]
+#[cfg_attr(not(any(target_pointer_width = "64", target_arch = "wasm32")), allow(dead_code))]
 fn mul_raw_native(a: i32, b: i32) -> i32 {
     let r = (a as i64 * b as i64 + HALF_ULP) >> FRAC;
     if r > RAW_MAX as i64 {
@@ -435,7 +435,7 @@ fn mul_raw_native(a: i32, b: i32) -> i32 {
 /// is that `hi` shifted right by `FRAC − 2` is its own sign. Larger products
 /// take [`clamp_words`].
 #[inline(always)]
-#[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+#[cfg_attr(any(target_pointer_width = "64", target_arch = "wasm32"), allow(dead_code))]
 fn round_words(hi: i32, lo: u32) -> i32 {
     if hi >> (FRAC - 2) != hi >> 31 {
         return clamp_words(hi, lo);
@@ -450,7 +450,7 @@ fn round_words(hi: i32, lo: u32) -> i32 {
 /// negative result past the range).
 #[cold]
 #[inline(never)]
-#[cfg_attr(target_pointer_width = "64", allow(dead_code))]
+#[cfg_attr(any(target_pointer_width = "64", target_arch = "wasm32"), allow(dead_code))]
 fn clamp_words(hi: i32, lo: u32) -> i32 {
     let r = (hi << (32 - FRAC)) | (lo >> FRAC) as i32;
     if hi >> (FRAC - 1) == r >> 31 && r != i32::MIN {
@@ -466,7 +466,10 @@ fn clamp_words(hi: i32, lo: u32) -> i32 {
 /// product's two words (`mulh`/`mul` or `smull`), half an ulp added to the
 /// low word with its carry into the high one, then [`round_words`].
 #[inline(always)]
-#[cfg_attr(any(target_pointer_width = "64", all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+#[cfg_attr(
+    any(target_pointer_width = "64", target_arch = "wasm32", all(target_arch = "arm", not(target_has_atomic = "32"))),
+    allow(dead_code)
+)]
 fn mul_raw_words(a: i32, b: i32) -> i32 {
     let p = a as i64 * b as i64;
     let (lo, carry) = (p as u32).overflowing_add(HALF_ULP as u32);
@@ -562,10 +565,15 @@ fn mul_recip(m: u32, wl: u32) -> u32 {
 /// The exact `(⌊n/d⌋, n mod d)` of `n = u1·2³² + u0`, by the native `u64`
 /// division.
 #[inline(always)]
-#[cfg_attr(not(target_pointer_width = "64"), allow(dead_code))]
+#[cfg_attr(not(any(target_pointer_width = "64", target_arch = "wasm32")), allow(dead_code))]
 fn div_words_native(u1: u32, u0: u32, d: u32) -> (u32, u32) {
     let n = ((u1 as u64) << 32) | u0 as u64;
-    ((n / d as u64) as u32, (n % d as u64) as u32)
+    // d ≥ 2³¹ (normalised); `NonZeroU64` lets the compiler drop the
+    // divide-by-zero panic (the `None` arm is unreachable).
+    let Some(d) = core::num::NonZeroU64::new(d as u64) else {
+        return (0, 0);
+    };
+    ((n / d) as u32, (n % d) as u32)
 }
 
 /// The same with two 32/32-bit hardware divisions: each 16-bit quotient
@@ -645,12 +653,12 @@ fn div_words_reciprocal(u1: u32, u0: u32, d: u32) -> (u32, u32) {
 /// The two-word division of this target (see above).
 #[inline(always)]
 fn div_words(u1: u32, u0: u32, d: u32) -> (u32, u32) {
-    #[cfg(target_pointer_width = "64")]
+    #[cfg(any(target_pointer_width = "64", target_arch = "wasm32"))]
     {
         div_words_native(u1, u0, d)
     }
     #[cfg(all(
-        not(target_pointer_width = "64"),
+        not(any(target_pointer_width = "64", target_arch = "wasm32")),
         any(
             all(target_arch = "arm", not(target_has_atomic = "32")),
             all(target_arch = "riscv32", not(target_feature = "m"))
@@ -660,7 +668,7 @@ fn div_words(u1: u32, u0: u32, d: u32) -> (u32, u32) {
         div_words_reciprocal(u1, u0, d)
     }
     #[cfg(all(
-        not(target_pointer_width = "64"),
+        not(any(target_pointer_width = "64", target_arch = "wasm32")),
         not(any(
             all(target_arch = "arm", not(target_has_atomic = "32")),
             all(target_arch = "riscv32", not(target_feature = "m"))
@@ -994,17 +1002,24 @@ impl Neg for Fixed32 {
 
 impl Mul for Fixed32 {
     type Output = Self;
-    #[inline(always)]
+    // Out of line on WebAssembly, whose module a browser downloads (web/):
+    // inlined at every use, the products are 13 KB of the module.
+    #[cfg_attr(not(target_arch = "wasm32"), inline(always))]
+    #[cfg_attr(target_arch = "wasm32", inline(never))]
     fn mul(self, o: Self) -> Self {
         #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
         {
             Fixed32(mul_raw_armv6m(self.0, o.0))
         }
-        #[cfg(target_pointer_width = "64")]
+        #[cfg(any(target_pointer_width = "64", target_arch = "wasm32"))]
         {
             Fixed32(mul_raw_native(self.0, o.0))
         }
-        #[cfg(not(any(target_pointer_width = "64", all(target_arch = "arm", not(target_has_atomic = "32")))))]
+        #[cfg(not(any(
+            target_pointer_width = "64",
+            target_arch = "wasm32",
+            all(target_arch = "arm", not(target_has_atomic = "32"))
+        )))]
         {
             Fixed32(mul_raw_words(self.0, o.0))
         }

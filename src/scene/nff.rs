@@ -91,14 +91,17 @@ impl Token {
             end -= 1;
         }
         let mut bytes = [0u8; 24];
-        bytes[..end].copy_from_slice(&s.as_bytes()[..end]);
+        // (`get` and a zip: no index can fail, so no panic path.)
+        for (d, b) in bytes.iter_mut().zip(s.as_bytes().get(..end).unwrap_or(&[])) {
+            *d = *b;
+        }
         Token { bytes, len: end as u8, truncated: end < s.len() }
     }
 
     /// The (possibly shortened) text.
     pub fn as_str(&self) -> &str {
         // The bytes are a prefix of a `str` cut at a character boundary.
-        core::str::from_utf8(&self.bytes[..self.len as usize]).unwrap_or("")
+        core::str::from_utf8(self.bytes.get(..self.len as usize).unwrap_or(&[])).unwrap_or("")
     }
 }
 
@@ -430,7 +433,7 @@ impl Sink<f32> for Discard {
 ///
 /// On error the scene holds the entities before the failing one.
 pub fn parse<S: Scalar, St: Storage<S>>(text: &str, scene: &mut SceneStore<S, St>) -> Result<NffInfo, NffError> {
-    read(text, scene).map_err(|mut e| {
+    read::<S, dyn Sink<S>>(text, scene).map_err(|mut e| {
         // Say what the whole file needs, if the rest of it can be counted.
         if let NffErrorKind::Capacity(ref mut c) = e.kind {
             if let Ok(info) = scan(text) {
@@ -445,7 +448,7 @@ pub fn parse<S: Scalar, St: Storage<S>>(text: &str, scene: &mut SceneStore<S, St
 /// errors as [`parse`], except capacity) and counts what a scene needs to
 /// hold it.
 pub fn scan(text: &str) -> Result<NffInfo, NffError> {
-    read::<f32, _>(text, &mut Discard)
+    read::<f32, dyn Sink<f32>>(text, &mut Discard)
 }
 
 /// One line, with the comment removed.
@@ -534,8 +537,8 @@ impl<'a> Lines<'a> {
         if self.done || (self.rest.is_empty() && self.no > 0) {
             return None;
         }
-        let (line, rest) = match self.rest.find('\n') {
-            Some(i) => (&self.rest[..i], &self.rest[i + 1..]),
+        let (line, rest) = match self.rest.split_once('\n') {
+            Some(split) => split,
             None => {
                 self.done = true;
                 (self.rest, "")
@@ -543,10 +546,7 @@ impl<'a> Lines<'a> {
         };
         self.rest = rest;
         self.no += 1;
-        let line = match line.find('#') {
-            Some(i) => &line[..i],
-            None => line,
-        };
+        let line = line.split_once('#').map_or(line, |(content, _)| content);
         Some(Line { no: self.no, text: line.strip_suffix('\r').unwrap_or(line) })
     }
 
@@ -729,7 +729,7 @@ fn vertex_count(line: &Line, f: &Field) -> Result<u32, NffError> {
     }
 }
 
-fn read_polygon<'a, S: Scalar, K: Sink<S>>(
+fn read_polygon<'a, S: Scalar, K: Sink<S> + ?Sized>(
     lines: &mut Lines<'a>,
     line: &Line<'a>,
     count: u32,
@@ -806,7 +806,8 @@ fn count_lights(text: &str) -> usize {
     n
 }
 
-fn read<S: Scalar, K: Sink<S>>(text: &str, sink: &mut K) -> Result<NffInfo, NffError> {
+#[inline(never)]
+fn read<S: Scalar, K: Sink<S> + ?Sized>(text: &str, sink: &mut K) -> Result<NffInfo, NffError> {
     // A UTF-8 byte order mark (editors on some systems write one) is not
     // part of the first line.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
@@ -946,7 +947,7 @@ fn read_material<S: Scalar>(line: &Line, fields: &Fields, key: &str) -> Result<M
 /// `c` (one line or three) into `sink` with `material`, and counts it. The
 /// checks run in the order of every entity: fields and numbers, then the
 /// material, then the geometry.
-fn read_primitive<S: Scalar, K: Sink<S>>(
+fn read_primitive<S: Scalar, K: Sink<S> + ?Sized>(
     lines: &mut Lines,
     line: &Line,
     fields: &Fields,

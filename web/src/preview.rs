@@ -13,7 +13,7 @@
 //! the CLI's bytes, rays and one-line errors.
 
 use core::fmt::Write;
-use raypack::demo::{build_demo_scene_for, demo_camera_for, DemoScene, DEMO_VIEW};
+use raypack::demo::{build_demo_scene, demo_camera_for, DemoScene, DEMO_VIEW};
 use raypack::geom::camera::{Camera, Rect};
 use raypack::geom::uniform_scale::Similarity;
 use raypack::nff::{self, NffInfo};
@@ -227,9 +227,9 @@ pub struct Memory {
     fixed_scene: SceneOf<Fixed32>,
     f32_bvh: BvhOf<f32>,
     fixed_bvh: BvhOf<Fixed32>,
+    /// The demo scene, built in `f32` (for `fixed32`, converted into
+    /// `fixed_scene` as a file is).
     demo_f32: DemoScene<f32>,
-    demo_fixed: DemoScene<Fixed32>,
-    demo_described: DemoScene<f32>,
     band: [Rgb8; BAND_PIXELS],
     /// The last band as RGBA (what a canvas shows: RGB565 expanded back to
     /// 8 bits per channel by bit replication), row-major.
@@ -248,8 +248,6 @@ impl Memory {
             f32_bvh: Bvh::new(),
             fixed_bvh: Bvh::new(),
             demo_f32: Scene::new(),
-            demo_fixed: Scene::new(),
-            demo_described: Scene::new(),
             band: [[0; 3]; BAND_PIXELS],
             rgba: [0; BAND_PIXELS * 4],
             stream: [0; BAND_PIXELS * 3],
@@ -364,18 +362,22 @@ impl Preview<'_> {
         self.state.loaded = None;
         self.state.job = None;
         self.mem.demo_f32.clear();
-        self.mem.demo_fixed.clear();
-        self.mem.demo_described.clear();
-        let frame = match scalar {
-            ScalarKind::F32 => build_demo_scene_for(&mut self.mem.demo_f32, &mut self.mem.demo_described),
-            ScalarKind::Fixed32 => build_demo_scene_for(&mut self.mem.demo_fixed, &mut self.mem.demo_described),
-        };
-        let frame = match frame {
+        self.mem.fixed_scene.clear();
+        // `build_demo_scene_for` of the core, with the fixed-point copy in
+        // the preview's one fixed-point scene: built in f32 where it lies,
+        // then (fixed32) converted into the frame that fits it and the eye,
+        // as a file is (one conversion in the module, not two).
+        let (e, _, _, _) = DEMO_VIEW;
+        let eye = Vec3::new(e[0], e[1], e[2]);
+        let built = build_demo_scene(&mut self.mem.demo_f32).and_then(|()| match scalar {
+            ScalarKind::F32 => Ok(Similarity::IDENTITY),
+            ScalarKind::Fixed32 => self.mem.fixed_scene.add_in_frame(&self.mem.demo_f32.view(), Some(eye)),
+        });
+        let frame = match built {
             Ok(f) => f,
             Err(e) => return Err(self.fail(format_args!("demo scene: {e}"))),
         };
-        let (e, _, _, _) = DEMO_VIEW;
-        let reach = frame.point::<f32, f32>(Vec3::new(e[0], e[1], e[2])).max_abs();
+        let reach = frame.point::<f32, f32>(eye).max_abs();
         self.build_tree(scalar, true, reach)?;
         self.state.loaded = Some(Loaded { source: Source::Demo, scalar, frame });
         Ok(())
@@ -388,7 +390,7 @@ impl Preview<'_> {
             (ScalarKind::F32, false) => self.mem.f32_bvh.build_with(&self.mem.f32_scene.view(), &settings),
             (ScalarKind::F32, true) => self.mem.f32_bvh.build_with(&self.mem.demo_f32.view(), &settings),
             (ScalarKind::Fixed32, false) => self.mem.fixed_bvh.build_with(&self.mem.fixed_scene.view(), &settings),
-            (ScalarKind::Fixed32, true) => self.mem.fixed_bvh.build_with(&self.mem.demo_fixed.view(), &settings),
+            (ScalarKind::Fixed32, true) => self.mem.fixed_bvh.build_with(&self.mem.fixed_scene.view(), &settings),
         };
         match built {
             Ok(_) => Ok(()),
@@ -411,7 +413,7 @@ impl Preview<'_> {
             None => 0,
             Some(l) => match (l.source, l.scalar) {
                 (Source::Demo, ScalarKind::F32) => self.mem.demo_f32.len(),
-                (Source::Demo, ScalarKind::Fixed32) => self.mem.demo_fixed.len(),
+                (Source::Demo, ScalarKind::Fixed32) => self.mem.fixed_scene.len(),
                 (Source::Nff(_), ScalarKind::F32) => self.mem.f32_scene.len(),
                 (Source::Nff(_), ScalarKind::Fixed32) => self.mem.fixed_scene.len(),
             },
@@ -448,7 +450,7 @@ impl Preview<'_> {
         // Fixed point: the whole scene must fit its range (a no-op for f32).
         let range = match (camera, loaded.source) {
             (JobCamera::F32(_), _) => Ok(0.0),
-            (JobCamera::Fixed32(c), Source::Demo) => self.mem.demo_fixed.view().check_range(c.eye()),
+            (JobCamera::Fixed32(c), Source::Demo) => self.mem.fixed_scene.view().check_range(c.eye()),
             (JobCamera::Fixed32(c), Source::Nff(_)) => self.mem.fixed_scene.view().check_range(c.eye()),
         };
         if let Err(e) = range {
@@ -511,7 +513,7 @@ impl Preview<'_> {
                 band(self.mem.fixed_scene.view(), self.mem.fixed_bvh.view(), c, &job, rect, out)
             }
             (JobCamera::Fixed32(c), Source::Demo) => {
-                band(self.mem.demo_fixed.view(), self.mem.fixed_bvh.view(), c, &job, rect, out)
+                band(self.mem.fixed_scene.view(), self.mem.fixed_bvh.view(), c, &job, rect, out)
             }
         };
         match done {

@@ -82,9 +82,14 @@ impl<S: Scalar> Shape<S> {
     /// `pool` is the scene's vertex pool (used by polygons).
     // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
     // the one target without 32-bit atomics), where the copies would not fit
-    // a small flash: there each kernel is one function per packet width.
+    // a small flash, and on WebAssembly, whose module a browser downloads
+    // (web/): there each kernel is one function per packet width.
     #[cfg_attr(
-        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
+        all(
+            not(debug_assertions),
+            not(all(target_arch = "arm", not(target_has_atomic = "32"))),
+            not(target_arch = "wasm32")
+        ),
         inline(always)
     )]
     pub fn roots<const W: usize>(
