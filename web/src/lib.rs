@@ -25,7 +25,8 @@
 //! malformed scene.
 //!
 //! The module imports nothing. Nothing panics by design (errors are
-//! values); the render path provably cannot (see the panic handler).
+//! values); only `rp_load` has a call path to the panic handler at all, and
+//! only inside `core`'s float parser (see the panic handler).
 // `no_std` on WebAssembly; the host build (for `cargo test`) has std for the
 // test harness and its panic handler.
 #![cfg_attr(all(not(test), target_arch = "wasm32"), no_std)]
@@ -201,11 +202,11 @@ fn status(ok: bool) -> i32 {
 }
 
 /// The panic handler: a trap (`unreachable`), which the worker reports as
-/// an internal error. The render path (`rp_render_band`: tracing, shading,
-/// traversal, dithering, checksums) has no path to it at all, which
-/// web/test/check_module.py checks on the built module; the load path keeps
-/// bounds checks (in `core`'s float parser and formatting, the NFF reader,
-/// the BVH build) that the optimizer could not remove and no input reaches.
+/// an internal error. No export but `rp_load` has a call path to it (the
+/// demo, set-up, the render path, the getters), and `rp_load` only through
+/// bounds checks inside `core`'s float parser (`core::num::dec2flt`, behind
+/// `str::parse::<f32>`), which the optimizer keeps and no input is known to
+/// reach: web/test/check_module.py checks both on the linked module.
 #[cfg(all(not(test), target_arch = "wasm32"))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {

@@ -389,8 +389,7 @@ impl Preview<'_> {
         let built = match (scalar, demo) {
             (ScalarKind::F32, false) => self.mem.f32_bvh.build_with(&self.mem.f32_scene.view(), &settings),
             (ScalarKind::F32, true) => self.mem.f32_bvh.build_with(&self.mem.demo_f32.view(), &settings),
-            (ScalarKind::Fixed32, false) => self.mem.fixed_bvh.build_with(&self.mem.fixed_scene.view(), &settings),
-            (ScalarKind::Fixed32, true) => self.mem.fixed_bvh.build_with(&self.mem.fixed_scene.view(), &settings),
+            (ScalarKind::Fixed32, _) => self.mem.fixed_bvh.build_with(&self.mem.fixed_scene.view(), &settings),
         };
         match built {
             Ok(_) => Ok(()),
@@ -413,9 +412,8 @@ impl Preview<'_> {
             None => 0,
             Some(l) => match (l.source, l.scalar) {
                 (Source::Demo, ScalarKind::F32) => self.mem.demo_f32.len(),
-                (Source::Demo, ScalarKind::Fixed32) => self.mem.fixed_scene.len(),
                 (Source::Nff(_), ScalarKind::F32) => self.mem.f32_scene.len(),
-                (Source::Nff(_), ScalarKind::Fixed32) => self.mem.fixed_scene.len(),
+                (_, ScalarKind::Fixed32) => self.mem.fixed_scene.len(),
             },
         }
     }
@@ -450,8 +448,7 @@ impl Preview<'_> {
         // Fixed point: the whole scene must fit its range (a no-op for f32).
         let range = match (camera, loaded.source) {
             (JobCamera::F32(_), _) => Ok(0.0),
-            (JobCamera::Fixed32(c), Source::Demo) => self.mem.fixed_scene.view().check_range(c.eye()),
-            (JobCamera::Fixed32(c), Source::Nff(_)) => self.mem.fixed_scene.view().check_range(c.eye()),
+            (JobCamera::Fixed32(c), _) => self.mem.fixed_scene.view().check_range(c.eye()),
         };
         if let Err(e) = range {
             return Err(self.fail(format_args!("{e}")));
@@ -509,10 +506,8 @@ impl Preview<'_> {
             (JobCamera::F32(c), Source::Demo) => {
                 band(self.mem.demo_f32.view(), self.mem.f32_bvh.view(), c, &job, rect, out)
             }
-            (JobCamera::Fixed32(c), Source::Nff(_)) => {
-                band(self.mem.fixed_scene.view(), self.mem.fixed_bvh.view(), c, &job, rect, out)
-            }
-            (JobCamera::Fixed32(c), Source::Demo) => {
+            // (The demo too: converted into the fixed-point scene.)
+            (JobCamera::Fixed32(c), _) => {
                 band(self.mem.fixed_scene.view(), self.mem.fixed_bvh.view(), c, &job, rect, out)
             }
         };

@@ -158,14 +158,20 @@ fn order_bounded_first<S: Scalar>(scene: &SceneView<'_, S>, reach: f32, order: &
                     scale = v.abs();
                 }
             }
-            order[bounded] = id;
+            // (`get_mut`: `bounded` ≤ `id` < n, but a bounds check, a panic
+            // path, would stay in the code.)
+            if let Some(o) = order.get_mut(bounded) {
+                *o = id;
+            }
             bounded += 1;
         }
     }
     let mut next = bounded;
     for id in 0..n as u32 {
         if raw_bounds(scene, id).is_none() {
-            order[next] = id;
+            if let Some(o) = order.get_mut(next) {
+                *o = id;
+            }
             next += 1;
         }
     }
@@ -193,6 +199,8 @@ fn best_split<S: Scalar>(
     sah: Sah,
 ) -> Option<(f32, usize, usize)> {
     let Sah { bins, c_trav, c_isect } = sah;
+    // (Already so; said again so that no bin index needs a bounds check.)
+    let bins = bins.clamp(2, MAX_BINS);
     let mut best: Option<(f32, usize, usize)> = None;
     for axis in 0..3 {
         let c_lo = cent_box.min[axis];
@@ -247,14 +255,19 @@ fn partition<S: Scalar>(
 ) -> usize {
     let c_lo = cent_box.min[axis];
     let k = bins as f32 / (cent_box.max[axis] - c_lo);
-    let (mut i, mut j) = (begin, end);
+    // (`end` ≤ `order.len()`; the `min` spares the bounds checks.)
+    let (mut i, mut j) = (begin, end.min(order.len()));
     while i < j {
-        let b = padded_bounds(scene, order[i], pad);
+        let Some(&id) = order.get(i) else { break };
+        let b = padded_bounds(scene, id, pad);
         if bin_of(b.centroid()[axis], c_lo, k, bins) <= last {
             i += 1;
         } else {
             j -= 1;
-            order.swap(i, j);
+            // `order.swap(i, j)` (i < j), without its bounds check.
+            if let Some([first, .., last]) = order.get_mut(i..=j) {
+                core::mem::swap(first, last);
+            }
         }
     }
     i
@@ -306,14 +319,18 @@ pub(super) fn build<S: Scalar>(
     let mut next_pair = 1usize;
     while sp > 0 {
         sp -= 1;
-        let task = tasks[sp];
+        // (`get`, and `get_mut` below: the indices are in range, by the
+        // depth bound and the partition; a bounds check would be a panic
+        // path.)
+        let Some(&task) = tasks.get(sp) else { break };
         let (begin, end) = (task.begin as usize, task.end as usize);
         let count = end - begin;
+        let Some(ids) = order.get_mut(begin..end) else { break };
 
         // Node bounds and centroid bounds.
         let mut node_box = Aabb::EMPTY;
         let mut cent_box = Aabb::EMPTY;
-        for &id in &order[begin..end] {
+        for &id in ids.iter() {
             let b = padded_bounds(scene, id, pad);
             node_box.grow(&b);
             cent_box.grow_point(b.centroid());
@@ -324,8 +341,7 @@ pub(super) fn build<S: Scalar>(
         // Best split over all axes: cost relative to the parent's area.
         let parent_area = node_box.half_area();
         let can_split = count > 1 && (task.depth as usize) < max_depth && parent_area > 0.0;
-        let best =
-            if can_split { best_split(scene, &order[begin..end], pad, &cent_box, parent_area, sah) } else { None };
+        let best = if can_split { best_split(scene, ids, pad, &cent_box, parent_area, sah) } else { None };
         let leaf_cost = c_isect * count as f32;
         let split = match best {
             Some((cost, axis, last)) if count as u32 > max_leaf || cost < leaf_cost => Some((axis, last)),
@@ -334,8 +350,10 @@ pub(super) fn build<S: Scalar>(
 
         let Some((axis, last)) = split else {
             // Leaf: its primitives in index order.
-            sort_leaf(&mut order[begin..end]);
-            nodes[task.node as usize] = BvhNode { min: lo, max: hi, link: begin as u32, meta: (count as u32) << 2 };
+            sort_leaf(ids);
+            if let Some(node) = nodes.get_mut(task.node as usize) {
+                *node = BvhNode { min: lo, max: hi, link: begin as u32, meta: (count as u32) << 2 };
+            }
             stats.leaves += 1;
             stats.depth = stats.depth.max(task.depth);
             stats.max_leaf = stats.max_leaf.max(count as u32);
@@ -346,10 +364,13 @@ pub(super) fn build<S: Scalar>(
         let mid = partition(scene, order, (begin, end), pad, &cent_box, (axis, last, bins));
         let child = 2 * next_pair;
         next_pair += 1;
-        nodes[task.node as usize] = BvhNode { min: lo, max: hi, link: child as u32, meta: axis as u32 };
+        if let Some(node) = nodes.get_mut(task.node as usize) {
+            *node = BvhNode { min: lo, max: hi, link: child as u32, meta: axis as u32 };
+        }
         let depth = task.depth + 1;
-        tasks[sp] = Task { node: child as u32 + 1, begin: mid as u32, end: task.end, depth };
-        tasks[sp + 1] = Task { node: child as u32, begin: task.begin, end: mid as u32, depth };
+        let Some([right, left]) = tasks.get_mut(sp..sp + 2) else { break };
+        *right = Task { node: child as u32 + 1, begin: mid as u32, end: task.end, depth };
+        *left = Task { node: child as u32, begin: task.begin, end: mid as u32, depth };
         sp += 2;
     }
     stats
