@@ -806,6 +806,9 @@ fn count_lights(text: &str) -> usize {
     n
 }
 
+// `parse` and `scan` call it with a `dyn Sink` (a call per entity, not per
+// number), and out of line: one copy of the reader per scalar, not one per
+// sink and caller (14 KB each in the browser preview's module).
 #[inline(never)]
 fn read<S: Scalar, K: Sink<S> + ?Sized>(text: &str, sink: &mut K) -> Result<NffInfo, NffError> {
     // A UTF-8 byte order mark (editors on some systems write one) is not
