@@ -474,6 +474,29 @@ fn bench_prints_one_line_per_measurement() {
     let err = stderr(&o);
     assert!(err.starts_with("raypack: error: ") && err.contains("nocam.nff: "), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
+    // A file that cannot be read, and an instruction set this CPU lacks
+    // (where it lacks one), name the file as well.
+    let missing = dir.path().join("missing.nff");
+    let o = raypack(&["bench", missing.to_str().unwrap(), "--rounds", "1"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).starts_with(&format!("raypack: error: {}: ", missing.display())), "{}", stderr(&o));
+    let o = raypack(&[
+        "bench",
+        &scene("balls-1.nff"),
+        "--rounds",
+        "1",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--isa",
+        "avx2,avx512",
+    ]);
+    if !o.status.success() {
+        let err = stderr(&o);
+        assert!(err.contains("balls-1.nff: this CPU cannot run --isa"), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
     assert_eq!(raypack(&["bench", &scene("balls-1.nff"), "--packet", "3"]).status.code(), Some(2));
     assert_eq!(raypack(&["bench", &scene("balls-1.nff"), "--rounds", "0"]).status.code(), Some(2));
 }
@@ -902,6 +925,57 @@ fn a_closed_pipe_on_standard_output_ends_quietly() {
             assert!(err.is_empty(), "{format}: {err}");
         }
         assert!(head.starts_with(if format == "ppm" { b"P6\n512 512" } else { b"\x89PNG" }));
+    }
+}
+
+/// Runs raypack with standard output a pipe the test closes after reading
+/// `lines` lines (0: before raypack writes anything, so its first write
+/// meets the closed pipe); returns the exit code and standard error.
+fn with_stdout_closed_after(args: &[&str], lines: usize) -> (Option<i32>, String) {
+    use std::io::BufRead;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raypack"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run raypack");
+    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+    for _ in 0..lines {
+        let mut line = String::new();
+        assert!(stdout.read_line(&mut line).unwrap() > 0, "{args:?}: output ended before line {lines}");
+    }
+    drop(stdout);
+    let o = child.wait_with_output().unwrap();
+    (o.status.code(), stderr(&o))
+}
+
+#[test]
+fn bench_and_info_end_quietly_on_a_closed_pipe() {
+    // `raypack bench … | head -1`, `raypack info … | head -1`, and a reader
+    // that closes before the first line: exit 0, nothing on stderr (no
+    // "Broken pipe", no panic).
+    let balls = scene("balls-1.nff");
+    let bench = ["bench", &balls, "--width", "32", "--height", "32", "--rounds", "2", "--packet", "1,8", "-j", "1"];
+    let info = ["info", &balls];
+    for (args, lines) in [(&bench[..], 0), (&bench[..], 1), (&info[..], 0), (&info[..], 1)] {
+        let (code, err) = with_stdout_closed_after(args, lines);
+        assert_eq!(code, Some(0), "{} after {lines} lines: {err}", args[0]);
+        assert!(!err.contains("panicked") && !err.contains("Broken pipe"), "{} after {lines} lines: {err}", args[0]);
+        assert!(err.is_empty(), "{} after {lines} lines: {err}", args[0]);
+    }
+    // Any other write error is one, with exit code 1.
+    if Path::new("/dev/full").exists() {
+        for args in [&bench[..], &info[..]] {
+            let o = Command::new(env!("CARGO_BIN_EXE_raypack"))
+                .args(args)
+                .stdout(std::fs::File::options().write(true).open("/dev/full").unwrap())
+                .output()
+                .expect("run raypack");
+            let err = stderr(&o);
+            assert_eq!(o.status.code(), Some(1), "{}: {err}", args[0]);
+            assert!(err.starts_with("raypack: error: ") && err.contains("standard output: "), "{}: {err}", args[0]);
+            assert!(!err.contains("panicked"), "{}: {err}", args[0]);
+        }
     }
 }
 

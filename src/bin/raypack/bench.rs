@@ -163,18 +163,20 @@ fn bench_scene(args: &BenchArgs, scene: &LoadedScene) -> Result<(), Failure> {
         ),
         None => "accel=none".into(),
     };
-    println!(
-        "# raypack-bench {FORMAT} version={} cpu=\"{}\" cores={cores} isas={} rounds={}",
+    let header = format!(
+        "# raypack-bench {FORMAT} version={} cpu=\"{}\" cores={cores} isas={} rounds={}\n\
+         # scene={name} primitives={} lights={} size={width}x{height} scalar={scalar} {accel}\n",
         env!("CARGO_PKG_VERSION"),
         cpu_model(),
         crate::available_isas().replace(' ', ""),
-        args.rounds
-    );
-    println!(
-        "# scene={name} primitives={} lights={} size={width}x{height} scalar={scalar} {accel}",
+        args.rounds,
         info.nff.counts.primitives(),
         info.nff.counts.lights
     );
+    // The reader is gone (`raypack bench … | head -0`): nothing to measure for.
+    if !crate::output::print(&header)? {
+        return Ok(());
+    }
     crate::render::warn_degenerate(&args.scene, &info, false);
 
     // The two measurements: closest hit of primary rays (the ID image), and
@@ -218,7 +220,11 @@ fn bench_scene(args: &BenchArgs, scene: &LoadedScene) -> Result<(), Failure> {
         if let Some(o) = find(c.packet, 1) {
             line += &format!(" vs_1thread={:.2}", best(&o.times) / b);
         }
-        println!("{line}");
+        line.push('\n');
+        // A closed pipe (`raypack bench … | head -1`) ends quietly.
+        if !crate::output::print(&line)? {
+            break;
+        }
     }
     Ok(())
 }

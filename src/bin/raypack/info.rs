@@ -59,6 +59,7 @@ pub fn run(path: &Path) -> Result<(), Failure> {
         out
     })
     .map_err(|e| Failure(format!("{}: {e}", path.display())))?;
-    print!("{out}");
+    // A closed pipe (`raypack info … | head -1`) ends quietly.
+    crate::output::print(&out)?;
     Ok(())
 }

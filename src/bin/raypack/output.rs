@@ -195,6 +195,19 @@ impl PendingImage {
     }
 }
 
+/// Writes `text` to standard output. `Ok(false)`: the reader has closed the
+/// pipe (`raypack bench … | head -1`) and wants no more, so the caller stops
+/// printing and ends quietly (exit 0), as Unix tools do; any other write
+/// error is a failure.
+pub fn print(text: &str) -> Result<bool, Failure> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(true),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(false),
+        Err(e) => Err(Failure(format!("standard output: {e}"))),
+    }
+}
+
 /// Whether `e` (or what it wraps: the PNG encoder's I/O error) is a write
 /// to a pipe whose reader has closed it.
 fn is_broken_pipe(e: &(dyn std::error::Error + 'static)) -> bool {
