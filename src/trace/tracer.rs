@@ -503,10 +503,11 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let cos_i = -(d.dot(n));
         // Relative index η = n₁/n₂: entering goes from outside (1) into the material.
         let ior = mat.ior;
-        let eta = Lanes::select(surf.entering, one.div_nonzero(ior), ior);
+        let has_t = hit.mask & mat.kt.gt(zero);
+        // η only matters where there is transmission: without any, no division.
+        let eta = if has_t.any() { Lanes::select(surf.entering, one.div_nonzero(ior), ior) } else { one };
         // k = 1 − η²(1 − cos²θi); negative means total internal reflection.
         let k = one - eta * eta * (one - cos_i * cos_i);
-        let has_t = hit.mask & mat.kt.gt(zero);
         let tir = has_t & k.lt(zero);
         let w_refl = p.weight * mat.kr + Lanes::select(tir, p.weight * mat.kt, zero);
         let w_refr = Lanes::select(has_t.and_not(tir), p.weight * mat.kt, zero);

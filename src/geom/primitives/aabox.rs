@@ -83,6 +83,20 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
     t_max: Lanes<S, W>,
     active: Mask<W>,
 ) -> Roots<S, W> {
+    // A ray outside a slab and not moving into it (the origin below `min`
+    // with the direction component at most 0, or above `max` with it at
+    // least 0) has its whole slab interval at `t <= 0`, which no `t_min ≥ 0`
+    // keeps: those lanes skip the six divisions with the same result.
+    let zero = Lanes::zero();
+    let away = |o: Lanes<S, W>, d: Lanes<S, W>, lo: S, hi: S| {
+        (o.lt(Lanes::splat(lo)) & d.le(zero)) | (o.gt(Lanes::splat(hi)) & d.ge(zero))
+    };
+    let away =
+        away(origin.x, dir.x, min.x, max.x) | away(origin.y, dir.y, min.y, max.y) | away(origin.z, dir.z, min.z, max.z);
+    let active = active & (!away | t_min.lt(zero));
+    if active.none() {
+        return Roots::none();
+    }
     let (nx, fx) = slab_axis(origin.x, dir.x, min.x, max.x);
     let (ny, fy) = slab_axis(origin.y, dir.y, min.y, max.y);
     let (nz, fz) = slab_axis(origin.z, dir.z, min.z, max.z);

@@ -100,6 +100,16 @@ pub(crate) fn plane_crossing<S: Scalar, const W: usize>(
     }
     // Signed distance of the origin, divided by the rate.
     let dist = ray.origin.dot_splat(n) + d;
+    // The crossing lies ahead (t = −dist/rate > 0) only where the distance
+    // and the rate have opposite signs: elsewhere the quotient would be at
+    // most 0 and fail `t > t_min` for the usual `t_min ≥ 0`, so those lanes
+    // skip the division (a long routine in fixed point) with the same result.
+    let zero = Lanes::zero();
+    let ahead = (dist.gt(zero) & denom.lt(zero)) | (dist.lt(zero) & denom.gt(zero)) | t_min.lt(zero);
+    let valid = valid & ahead;
+    if valid.none() {
+        return Roots::none();
+    }
     let t = (-dist).div_nonzero(denom);
     Roots::from_candidates(t, valid, t, Mask::splat(false), t_min, t_max)
 }
