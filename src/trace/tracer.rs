@@ -479,7 +479,12 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             let diffuse = mat.kd * n_dot_l;
             let shade = mat.color.scale(diffuse);
             let shade = Vec3::new(shade.x + spec, shade.y + spec, shade.z + spec);
-            let contrib = shade.mul_elem(light.color.splat::<W>()).scale(trans);
+            let contrib = shade.mul_elem(light.color.splat::<W>());
+            // Unshadowed lanes carry exactly 1 (x·1 = x in every scalar): skip
+            // the three products when no lit lane is partly shadowed (unlit
+            // lanes are dropped below).
+            let partly = lit.and_not(trans.eq_lanes(Lanes::splat(S::ONE)));
+            let contrib = if partly.none() { contrib } else { contrib.scale(trans) };
             local = local + Vec3xW::select(lit, contrib, Vec3::new(zero, zero, zero));
         }
         Vec3xW::select(hit.mask, local, Vec3::new(zero, zero, zero))
