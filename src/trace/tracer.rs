@@ -445,14 +445,19 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             // Direction and distance to the light.
             let to_light = light.position.splat::<W>() - surf.point;
             let (l_dir, ok) = to_light.normalize();
-            let dist = to_light.length_squared().sqrt();
             let n_dot_l = surf.shading.dot(l_dir);
+            // The geometric normal is the shading one except on patches; where
+            // every lane's are equal, so is the product.
+            let (g, n) = (&surf.geometric, &surf.shading);
+            let same = g.x.eq_lanes(n.x) & g.y.eq_lanes(n.y) & g.z.eq_lanes(n.z);
+            let g_dot_l = if same.all() { n_dot_l } else { g.dot(l_dir) };
             // Only lights on the lit side of both the geometric and the shading surface.
-            let lit = hit.mask & ok & n_dot_l.gt(zero) & surf.geometric.dot(l_dir).gt(zero);
+            let lit = hit.mask & ok & n_dot_l.gt(zero) & g_dot_l.gt(zero);
             if lit.none() {
                 continue;
             }
             let trans = if shadows {
+                let dist = to_light.length_squared().sqrt();
                 RayStats::tally(&mut stats.shadow, &mut stats.shadow_packets, lit.count() as u64);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
                 // Only the primitives some of these rays can reach.
@@ -465,14 +470,20 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             if lit.none() {
                 continue;
             }
-            // Phong: R = 2(N·L)N − L, highlight Ks·max(0, R·V)^shine.
-            let r = surf.shading.scale(n_dot_l * S::TWO) - l_dir;
-            let r_dot_v = r.dot(view);
-            // The highlight as lane code: the power of every lane at once
-            // (a branch-free `powf`), kept where it applies.
-            let highlight = lit & r_dot_v.gt(zero) & mat.ks.ne_lanes(zero);
-            let spec = if highlight.any() {
-                Lanes::select(highlight, mat.ks * r_dot_v.min(Lanes::splat(S::ONE)).powf(mat.shine), zero)
+            // Phong: R = 2(N·L)N − L, highlight Ks·max(0, R·V)^shine, for
+            // the lanes with a specular coefficient.
+            let shiny = lit & mat.ks.ne_lanes(zero);
+            let spec = if shiny.any() {
+                let r = surf.shading.scale(n_dot_l * S::TWO) - l_dir;
+                let r_dot_v = r.dot(view);
+                // The highlight as lane code: the power of every lane at once
+                // (a branch-free `powf`), kept where it applies.
+                let highlight = shiny & r_dot_v.gt(zero);
+                if highlight.any() {
+                    Lanes::select(highlight, mat.ks * r_dot_v.min(Lanes::splat(S::ONE)).powf(mat.shine), zero)
+                } else {
+                    zero
+                }
             } else {
                 zero
             };
