@@ -180,6 +180,19 @@ mod tests {
     }
 
     #[test]
+    fn a_box_behind_the_origin_counts_only_for_a_negative_t_min() {
+        // The cube lies at t ∈ [−6, −4] along +z from z = 5, and along −x
+        // from x = −3 at t ∈ [−4, −2].
+        assert_eq!(first_after(&cube(), 0.0, [0.0, 0.0, 5.0], [0.0, 0.0, 1.0]), None);
+        assert_eq!(first_after(&cube(), -10.0, [0.0, 0.0, 5.0], [0.0, 0.0, 1.0]), Some(-6.0));
+        assert_eq!(first_after(&cube(), -5.0, [0.0, 0.0, 5.0], [0.0, 0.0, 1.0]), Some(-4.0));
+        assert_eq!(first_after(&cube(), 0.0, [-3.0, 0.5, 0.5], [-1.0, 0.0, 0.0]), None);
+        assert_eq!(first_after(&cube(), -10.0, [-3.0, 0.5, 0.5], [-1.0, 0.0, 0.0]), Some(-4.0));
+        // Outside a slab and parallel to it: never.
+        assert_eq!(first_after(&cube(), -10.0, [0.0, 2.0, 5.0], [0.0, 0.0, 1.0]), None);
+    }
+
+    #[test]
     fn miss_inside_and_behind() {
         assert!(hits(&cube(), [0.0, 2.0, -5.0], [0.0, 0.0, 1.0]).is_empty());
         assert_eq!(hits(&cube(), [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]), vec![1.0]);

@@ -148,6 +148,18 @@ mod tests {
     }
 
     #[test]
+    fn a_crossing_behind_the_origin_counts_only_for_a_negative_t_min() {
+        // z = 1, the ray leaving it upwards from z = 3: the crossing is at t = −2.
+        let p = Shape::Plane(Plane::from_coefficients(0.0f32, 0.0, 1.0, -1.0).unwrap());
+        assert_eq!(first_after(&p, 0.0, [0.0, 0.0, 3.0], [0.0, 0.0, 1.0]), None);
+        assert_eq!(first_after(&p, -10.0, [0.0, 0.0, 3.0], [0.0, 0.0, 1.0]), Some(-2.0));
+        assert_eq!(first_after(&p, -1.0, [0.0, 0.0, 3.0], [0.0, 0.0, 1.0]), None);
+        // On the plane: t = 0, kept only below 0.
+        assert_eq!(first_after(&p, 0.0, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]), None);
+        assert_eq!(first_after(&p, -1.0, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]), Some(0.0));
+    }
+
+    #[test]
     fn degenerate_input_is_rejected() {
         assert_eq!(Plane::from_coefficients(0.0f32, 0.0, 0.0, 1.0), Err(GeometryError::ZeroLengthAxis));
         assert_eq!(Plane::from_coefficients(f32::NAN, 0.0, 1.0, 1.0), Err(GeometryError::NonFinite));
