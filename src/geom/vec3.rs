@@ -185,7 +185,8 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
         // (see `Scalar::NORMALIZE_PRESCALE`).
         let v = if S::NORMALIZE_PRESCALE {
             let m = self.x.abs().max(self.y.abs()).max(self.z.abs());
-            self.scale(m.map(S::normalizing_factor))
+            let k = m.0.map(S::normalizing_exponent);
+            Vec3::new(self.x.mul_pow2(k), self.y.mul_pow2(k), self.z.mul_pow2(k))
         } else {
             self
         };

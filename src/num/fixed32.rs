@@ -1076,14 +1076,42 @@ impl Scalar for Fixed32 {
     /// by it is a shift: exact for `k ≥ 0`, rounded once for `k < 0`.
     #[inline]
     fn normalizing_factor(self) -> Self {
+        Fixed32(1 << (FRAC as i32 + self.normalizing_exponent()))
+    }
+    /// The `k` of [`Scalar::normalizing_factor`]: 0 for zero.
+    #[inline]
+    fn normalizing_exponent(self) -> i32 {
         let raw = self.0.max(0) as u32;
         if raw == 0 {
-            return Self::ONE;
+            return 0;
         }
         // Position of the top bit; [½, 1) has its top bit at FRAC − 1.
         let top = 31 - raw.leading_zeros() as i32;
-        let k = (FRAC as i32 - 1 - top).clamp(-8, 6);
-        Fixed32(1 << (FRAC as i32 + k))
+        (FRAC as i32 - 1 - top).clamp(-8, 6)
+    }
+    /// The product by `2^k` (`k ∈ [−8, 6]`) as a shift, bit for bit
+    /// `self * 2^k`: that product is `⌊(a·2^(FRAC+k) + 2^(FRAC−1))/2^FRAC⌋`
+    /// clamped, which is `a·2^k` clamped for `k >= 0` and, with `s = −k`,
+    /// `⌊(a + 2^(s−1))/2^s⌋ = (a >> s) + bit s−1 of a` (the half added
+    /// carries into bit `s` exactly when that bit is set) for `k < 0`.
+    #[inline]
+    fn mul_pow2(self, k: i32) -> Self {
+        let a = self.0;
+        if k >= 0 {
+            let k = (k as u32).min(30);
+            // In range iff shifting back gives `a` again (and not i32::MIN).
+            let r = a.wrapping_shl(k);
+            if r.wrapping_shr(k) == a && r != i32::MIN {
+                Fixed32(r)
+            } else if a < 0 {
+                Fixed32(RAW_MIN)
+            } else {
+                Fixed32(RAW_MAX)
+            }
+        } else {
+            let s = (k.unsigned_abs()).min(31);
+            Fixed32(a.wrapping_shr(s).wrapping_add(a.wrapping_shr(s - 1) & 1))
+        }
     }
     /// `round(clamp(v)·255)` (ties up) from the raw bits: `255` itself is not
     /// representable in Q8.24, so the generic formula cannot be used.
@@ -1168,6 +1196,46 @@ impl Scalar for Fixed32 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn mul_pow2_is_the_product_by_the_power() {
+        let mut rng = Rng(0x2b0d);
+        let edges = [
+            0,
+            1,
+            -1,
+            2,
+            -2,
+            3,
+            -3,
+            127,
+            -128,
+            255,
+            256,
+            -257,
+            RAW_MAX,
+            RAW_MIN,
+            RAW_MAX / 64,
+            RAW_MIN / 64,
+            RAW_MAX / 64 + 1,
+        ];
+        for k in -8..=6 {
+            let f = Fixed32(1 << (FRAC as i32 + k));
+            let check = |a: i32| {
+                let x = Fixed32(a);
+                assert_eq!(x.mul_pow2(k), x * f, "{a} * 2^{k}");
+            };
+            edges.iter().for_each(|&a| check(a));
+            for _ in 0..20_000 {
+                check(rng.raw());
+            }
+        }
+        // The exponent is the factor's.
+        for a in [0, 1, 5_000, RAW_ONE / 3, RAW_ONE, RAW_MAX] {
+            let x = Fixed32(a);
+            assert_eq!(Fixed32(1 << (FRAC as i32 + x.normalizing_exponent())), x.normalizing_factor());
+        }
+    }
+
     extern crate std;
     use super::*;
     use std::format;

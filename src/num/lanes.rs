@@ -258,6 +258,15 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
         }
         Lanes(r)
     }
+    /// Each lane times `2^k[i]` ([`Scalar::mul_pow2`]).
+    #[inline(always)]
+    pub fn mul_pow2(self, k: [i32; W]) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] = r[i].mul_pow2(k[i]);
+        }
+        Lanes(r)
+    }
     /// Square root per lane.
     #[inline(always)]
     pub fn sqrt(self) -> Self {

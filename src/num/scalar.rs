@@ -99,6 +99,26 @@ pub trait Scalar:
         Self::ONE
     }
 
+    /// The exponent `k` of [`Scalar::normalizing_factor`] (`f = 2^k`): 0 by
+    /// default.
+    #[inline(always)]
+    fn normalizing_exponent(self) -> i32 {
+        0
+    }
+
+    /// `self · 2^k` for a `k` from [`Scalar::normalizing_exponent`], bit for
+    /// bit the product `self * self_type(2^k)` (a type whose product rounds
+    /// overrides it with a shift that rounds the same way). The default
+    /// multiplies by the factor, which is 1 for the default exponent.
+    #[inline(always)]
+    fn mul_pow2(self, k: i32) -> Self {
+        if k == 0 {
+            self
+        } else {
+            self * Self::from_f32(libm::exp2f(k as f32))
+        }
+    }
+
     /// `num / den` for image coordinates (the camera's pixel centres:
     /// `(2i + 1)/W`), `den > 0`. The default divides the two numbers in the
     /// type, which is exact for `f32` and 32.32; a type whose range does

@@ -302,12 +302,22 @@ fn span(c0: f32, c1: f32, last: u16) -> Option<(u16, u16)> {
 pub const SHADOW_LIGHTS: usize = 2;
 
 /// One primitive as seen from one light: shadow rays whose direction `d`
-/// (towards the light) has `d·axis > limit` cannot reach it. A primitive
-/// that is always a candidate has a zero axis and the limit `S::MAX`.
+/// (towards the light) lies outside the box `[dlo, dhi]`, or has
+/// `d·axis > limit`, cannot reach it. The box is tested first: six
+/// comparisons, no product. A primitive that is always a candidate has
+/// `always` set.
 #[derive(Clone, Copy, Debug)]
 struct Occluder<S> {
+    always: bool,
+    dlo: Vec3<S>,
+    dhi: Vec3<S>,
     axis: Vec3<S>,
     limit: S,
+}
+
+impl<S: Scalar> Occluder<S> {
+    /// Always a candidate.
+    const ALWAYS: Self = Occluder { always: true, dlo: Vec3::ZERO, dhi: Vec3::ZERO, axis: Vec3::ZERO, limit: S::MAX };
 }
 
 /// Per light and primitive, the shadow-ray directions that can reach the
@@ -325,8 +335,15 @@ struct Occluder<S> {
 /// bounds' sphere, radius `R`, distance `D`) of half-angle
 /// `asin((R + e + m)/D)`, can be reached only by rays with
 /// `−d·axis >= cos` of that angle (less `2⁻¹²` for the rounding of `d` and
-/// of the dot product). A primitive with no bounds, or whose grown sphere
-/// holds the light, is always a candidate. `e` is fixed per frame for hit
+/// of the dot product). Likewise `−d = (Y − L)/|Y − L|` for a point `Y` of
+/// the grown box, so each component of `−d` lies between the extremes of
+/// `(Yᵢ − Lᵢ)/|Y − L|` over the box: with `Yᵢ − Lᵢ ∈ [a, b]` and `|Y − L| ∈
+/// [dmin, dmax]` (the box's nearest and farthest points), between `a/dmin`
+/// (`a/dmax` if `a >= 0`) and `b/dmin` (`b/dmax` if `b < 0`), widened by
+/// `2⁻¹²`; a test of the direction's components against that box needs no
+/// product, so it runs first and the cone's dot product only where it
+/// passes. A primitive with no bounds, or whose grown sphere holds the
+/// light, is always a candidate. `e` is fixed per frame for hit
 /// points within twice the scene's extent (`eps <= e_lim`); lanes further
 /// out (a far point of a plane) test every primitive.
 #[derive(Clone, Copy, Debug)]
@@ -341,8 +358,12 @@ pub struct ShadowCull<S> {
 impl<S: Scalar> ShadowCull<S> {
     /// A table that culls nothing (every primitive a candidate).
     pub fn empty() -> Self {
-        let none = Occluder { axis: Vec3::ZERO, limit: S::MAX };
-        ShadowCull { occluders: [[none; CULL_CAPACITY]; SHADOW_LIGHTS], lights: 0, len: 0, eps_limit: S::ZERO }
+        ShadowCull {
+            occluders: [[Occluder::ALWAYS; CULL_CAPACITY]; SHADOW_LIGHTS],
+            lights: 0,
+            len: 0,
+            eps_limit: S::ZERO,
+        }
     }
 
     /// The cones of `scene`'s primitives from its lights, written in place
@@ -356,7 +377,7 @@ impl<S: Scalar> ShadowCull<S> {
         if prims.len() > CULL_CAPACITY {
             return Err(CullError::Capacity { primitives: prims.len() });
         }
-        let none = Occluder { axis: Vec3::ZERO, limit: S::MAX };
+        let none = Occluder::ALWAYS;
         let pool = scene.vertices();
         // The scene's extent: lights and bounded primitives.
         let mut extent = 0.0f32;
@@ -412,7 +433,24 @@ impl<S: Scalar> ShadowCull<S> {
         }
         let mut m = !low_bits(self.len);
         for (k, o) in row.iter().take(self.len).enumerate() {
-            if (lit & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any() {
+            if o.always {
+                m |= 1 << k;
+                continue;
+            }
+            // The box of directions first (comparisons only), then the cone
+            // for the lanes inside it.
+            let (lo, hi) = (o.dlo, o.dhi);
+            let inside = lit
+                & dir.x.ge(Lanes::splat(lo.x))
+                & dir.x.le(Lanes::splat(hi.x))
+                & dir.y.ge(Lanes::splat(lo.y))
+                & dir.y.le(Lanes::splat(hi.y))
+                & dir.z.ge(Lanes::splat(lo.z))
+                & dir.z.le(Lanes::splat(hi.z));
+            if inside.none() {
+                continue;
+            }
+            if o.limit == S::MAX || (inside & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any() {
                 m |= 1 << k;
             }
         }
@@ -420,10 +458,11 @@ impl<S: Scalar> ShadowCull<S> {
     }
 }
 
-/// The cone of directions from the light `l` reaching the box
+/// The cone and the box of directions from the light `l` reaching the box
 /// `[lo, hi]` grown by `grow` (see [`ShadowCull`]), as an occluder entry;
 /// `None` if it must always be tested.
 fn cone<S: Scalar>(l: [f32; 3], lo: [f32; 3], hi: [f32; 3], grow: f32) -> Option<Occluder<S>> {
+    let (dlo, dhi) = direction_box(l, lo, hi, grow)?;
     let c = [(lo[0] + hi[0]) * 0.5, (lo[1] + hi[1]) * 0.5, (lo[2] + hi[2]) * 0.5];
     let h = [hi[0] - c[0], hi[1] - c[1], hi[2] - c[2]];
     // Sphere around the box (grown by one part in 10⁴ for the rounding of
@@ -431,16 +470,69 @@ fn cone<S: Scalar>(l: [f32; 3], lo: [f32; 3], hi: [f32; 3], grow: f32) -> Option
     let r = libm::sqrtf(dot(h, h)) * 1.0001 + grow;
     let v = [c[0] - l[0], c[1] - l[1], c[2] - l[2]];
     let dist = libm::sqrtf(dot(v, v));
-    if !(dist > r * 1.001) || !r.is_finite() || !dist.is_finite() {
+    let (axis, limit) = if dist > r * 1.001 && r.is_finite() && dist.is_finite() {
+        let sin = r / dist;
+        let cos = libm::sqrtf(1.0 - sin * sin);
+        // `−d·axis >= cos − slack` ⇔ `d·axis <= slack − cos`; the axis
+        // points from the light to the centre.
+        (Vec3::from_f32(v[0] / dist, v[1] / dist, v[2] / dist), S::from_f32(1.0 / 4096.0 - cos))
+    } else {
+        // The light inside the sphere (beside a long box): the box of
+        // directions alone.
+        (Vec3::ZERO, S::MAX)
+    };
+    Some(Occluder {
+        always: false,
+        dlo: Vec3::from_f32(dlo[0], dlo[1], dlo[2]),
+        dhi: Vec3::from_f32(dhi[0], dhi[1], dhi[2]),
+        axis,
+        limit,
+    })
+}
+
+/// The box holding every shadow direction `d` (towards the light `l`) of a
+/// ray that can reach the box `[lo, hi]` grown by `grow` (see
+/// [`ShadowCull`]); `None` if the light lies in the grown box.
+fn direction_box(l: [f32; 3], lo: [f32; 3], hi: [f32; 3], grow: f32) -> Option<([f32; 3], [f32; 3])> {
+    let mut a = [0.0f32; 3];
+    let mut b = [0.0f32; 3];
+    let mut near = [0.0f32; 3];
+    let mut far = [0.0f32; 3];
+    for i in 0..3 {
+        // Yᵢ − Lᵢ over the grown box, and its smallest and largest magnitude.
+        a[i] = lo[i] - grow - l[i];
+        b[i] = hi[i] + grow - l[i];
+        near[i] = if a[i] > 0.0 {
+            a[i]
+        } else if b[i] < 0.0 {
+            -b[i]
+        } else {
+            0.0
+        };
+        far[i] = a[i].abs().max(b[i].abs());
+    }
+    // Distances from the light to the box's nearest and farthest points,
+    // loosened by one part in 10³ for this arithmetic's rounding.
+    let dmin = libm::sqrtf(dot(near, near)) * 0.999;
+    let dmax = libm::sqrtf(dot(far, far)) * 1.001;
+    if !(dmin > 0.0) || !dmax.is_finite() {
         return None;
     }
-    let sin = r / dist;
-    let cos = libm::sqrtf(1.0 - sin * sin);
-    // `−d·axis >= cos − slack` ⇔ `d·axis <= slack − cos`; the axis points
-    // from the light to the centre.
-    let axis = [v[0] / dist, v[1] / dist, v[2] / dist];
-    let limit = 1.0 / 4096.0 - cos;
-    Some(Occluder { axis: Vec3::from_f32(axis[0], axis[1], axis[2]), limit: S::from_f32(limit) })
+    let slack = 1.0 / 4096.0;
+    let mut dlo = [0.0f32; 3];
+    let mut dhi = [0.0f32; 3];
+    for i in 0..3 {
+        // −dᵢ = (Yᵢ − Lᵢ)/|Y − L| ∈ [u_lo, u_hi]: d ∈ [−u_hi, −u_lo].
+        let u_lo = if a[i] < 0.0 { a[i] / dmin } else { a[i] / dmax };
+        let u_hi = if b[i] < 0.0 { b[i] / dmax } else { b[i] / dmin };
+        dlo[i] = (-u_hi).max(-1.0) - slack;
+        dhi[i] = (-u_lo).min(1.0) + slack;
+    }
+    if dlo.iter().chain(dhi.iter()).all(|v| v.is_finite()) {
+        Some((dlo, dhi))
+    } else {
+        None
+    }
 }
 
 #[cfg(test)]
@@ -506,5 +598,61 @@ mod tests {
         assert_eq!(c.candidates(0, &dir(1.0, 0.0, 0.0), Lanes([1.0]), lit), ALL);
         // No table: everything.
         assert_eq!(ShadowCull::<f32>::empty().candidates(0, &dir(1.0, 0.0, 0.0), eps, lit), ALL);
+    }
+
+    #[test]
+    fn the_box_of_directions_cuts_what_a_long_occluders_cone_lets_through() {
+        // A wall-like box 20 long in x, 0.2 thick, in the plane z ∈ [4.9, 5.1]
+        // below a light at height 10: its bounding sphere's cone from the
+        // light is wide in every direction, its directions' box is not.
+        let mut s = Small::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        s.add_box(Vec3::new(-10.0, -0.1, 4.9), Vec3::new(10.0, 0.1, 5.1), m).unwrap();
+        s.add_light(Vec3::new(0.0, 0.0, 10.0), Vec3::new(1.0, 1.0, 1.0)).unwrap();
+        let mut c = ShadowCull::<f32>::empty();
+        c.fill(&s.view()).unwrap();
+        let o = c.occluders[0][0];
+        let unit = |x: f32, y: f32, z: f32| {
+            let n = (x * x + y * y + z * z).sqrt();
+            Vec3::new(Lanes([x / n]), Lanes([y / n]), Lanes([z / n]))
+        };
+        let (eps, lit) = (Lanes([1.0e-4]), Mask::splat(true));
+        // Straight up through the wall, and slanted along it: candidates.
+        assert_eq!(c.candidates(0, &unit(0.0, 0.0, 1.0), eps, lit) & 1, 1);
+        assert_eq!(c.candidates(0, &unit(1.0, 0.0, 1.0), eps, lit) & 1, 1);
+        // Slanted across it (y), inside the cone but outside the box: not.
+        let d = unit(0.0, 0.5, 1.0);
+        assert!(d.dot_splat(o.axis).le(Lanes::splat(o.limit)).all(), "the cone alone keeps it");
+        assert_eq!(c.candidates(0, &d, eps, lit) & 1, 0);
+    }
+
+    #[test]
+    fn the_box_of_directions_holds_every_direction_to_the_box() {
+        // Directions from points of the box towards lights around it are
+        // inside the box of directions (seeded samples).
+        let mut seed = 0x5eed_u32;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed % 20_001) as f32 / 10_000.0 - 1.0
+        };
+        for _ in 0..200 {
+            let l = [next() * 8.0, next() * 8.0, next() * 8.0];
+            let c = [next() * 3.0, next() * 3.0, next() * 3.0];
+            let h = [next().abs() + 0.01, next().abs() * 2.0 + 0.01, next().abs() * 0.5 + 0.01];
+            let lo = [c[0] - h[0], c[1] - h[1], c[2] - h[2]];
+            let hi = [c[0] + h[0], c[1] + h[1], c[2] + h[2]];
+            let Some((dlo, dhi)) = direction_box(l, lo, hi, 0.0) else { continue };
+            for _ in 0..50 {
+                let y = [0, 1, 2].map(|i| c[i] + h[i] * next());
+                let v = [l[0] - y[0], l[1] - y[1], l[2] - y[2]];
+                let n = dot(v, v).sqrt();
+                for i in 0..3 {
+                    let d = v[i] / n;
+                    assert!(d >= dlo[i] && d <= dhi[i], "{d} outside [{}, {}]", dlo[i], dhi[i]);
+                }
+            }
+        }
     }
 }

@@ -445,14 +445,19 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             // Direction and distance to the light.
             let to_light = light.position.splat::<W>() - surf.point;
             let (l_dir, ok) = to_light.normalize();
-            let dist = to_light.length_squared().sqrt();
             let n_dot_l = surf.shading.dot(l_dir);
+            // The geometric normal is the shading one except on patches; where
+            // every lane's are equal, so is the product.
+            let (g, n) = (&surf.geometric, &surf.shading);
+            let same = g.x.eq_lanes(n.x) & g.y.eq_lanes(n.y) & g.z.eq_lanes(n.z);
+            let g_dot_l = if same.all() { n_dot_l } else { g.dot(l_dir) };
             // Only lights on the lit side of both the geometric and the shading surface.
-            let lit = hit.mask & ok & n_dot_l.gt(zero) & surf.geometric.dot(l_dir).gt(zero);
+            let lit = hit.mask & ok & n_dot_l.gt(zero) & g_dot_l.gt(zero);
             if lit.none() {
                 continue;
             }
             let trans = if shadows {
+                let dist = to_light.length_squared().sqrt();
                 RayStats::tally(&mut stats.shadow, &mut stats.shadow_packets, lit.count() as u64);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
                 // Only the primitives some of these rays can reach.
@@ -465,21 +470,32 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             if lit.none() {
                 continue;
             }
-            // Phong: R = 2(N·L)N − L, highlight Ks·max(0, R·V)^shine.
-            let r = surf.shading.scale(n_dot_l * S::TWO) - l_dir;
-            let r_dot_v = r.dot(view);
-            // The highlight as lane code: the power of every lane at once
-            // (a branch-free `powf`), kept where it applies.
-            let highlight = lit & r_dot_v.gt(zero) & mat.ks.ne_lanes(zero);
-            let spec = if highlight.any() {
-                Lanes::select(highlight, mat.ks * r_dot_v.min(Lanes::splat(S::ONE)).powf(mat.shine), zero)
+            // Phong: R = 2(N·L)N − L, highlight Ks·max(0, R·V)^shine, for
+            // the lanes with a specular coefficient.
+            let shiny = lit & mat.ks.ne_lanes(zero);
+            let spec = if shiny.any() {
+                let r = surf.shading.scale(n_dot_l * S::TWO) - l_dir;
+                let r_dot_v = r.dot(view);
+                // The highlight as lane code: the power of every lane at once
+                // (a branch-free `powf`), kept where it applies.
+                let highlight = shiny & r_dot_v.gt(zero);
+                if highlight.any() {
+                    Lanes::select(highlight, mat.ks * r_dot_v.min(Lanes::splat(S::ONE)).powf(mat.shine), zero)
+                } else {
+                    zero
+                }
             } else {
                 zero
             };
             let diffuse = mat.kd * n_dot_l;
             let shade = mat.color.scale(diffuse);
             let shade = Vec3::new(shade.x + spec, shade.y + spec, shade.z + spec);
-            let contrib = shade.mul_elem(light.color.splat::<W>()).scale(trans);
+            let contrib = shade.mul_elem(light.color.splat::<W>());
+            // Unshadowed lanes carry exactly 1 (x·1 = x in every scalar): skip
+            // the three products when no lit lane is partly shadowed (unlit
+            // lanes are dropped below).
+            let partly = lit.and_not(trans.eq_lanes(Lanes::splat(S::ONE)));
+            let contrib = if partly.none() { contrib } else { contrib.scale(trans) };
             local = local + Vec3xW::select(lit, contrib, Vec3::new(zero, zero, zero));
         }
         Vec3xW::select(hit.mask, local, Vec3::new(zero, zero, zero))
@@ -503,10 +519,11 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let cos_i = -(d.dot(n));
         // Relative index η = n₁/n₂: entering goes from outside (1) into the material.
         let ior = mat.ior;
-        let eta = Lanes::select(surf.entering, one.div_nonzero(ior), ior);
+        let has_t = hit.mask & mat.kt.gt(zero);
+        // η only matters where there is transmission: without any, no division.
+        let eta = if has_t.any() { Lanes::select(surf.entering, one.div_nonzero(ior), ior) } else { one };
         // k = 1 − η²(1 − cos²θi); negative means total internal reflection.
         let k = one - eta * eta * (one - cos_i * cos_i);
-        let has_t = hit.mask & mat.kt.gt(zero);
         let tir = has_t & k.lt(zero);
         let w_refl = p.weight * mat.kr + Lanes::select(tir, p.weight * mat.kt, zero);
         let w_refr = Lanes::select(has_t.and_not(tir), p.weight * mat.kt, zero);

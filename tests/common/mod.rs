@@ -102,7 +102,17 @@ pub fn random_shape_in<S: Scalar>(rng: &mut Rng, scene: &mut TestSceneOf<S>, k: 
             let axis = rng.unit();
             let (cs, axs) = (cv::<S>(c), cv::<S>(axis));
             let q = match rng.below(6) {
-                0 => Quadric::ellipsoid(cs, cv(rng.vec(0.3, 1.5))),
+                0 => {
+                    // Axis-aligned or turned (about the drawn axis), from the
+                    // same draws.
+                    let radii = rng.vec(0.3, 1.5);
+                    if radii.x < 0.9 {
+                        let (u, v) = axis.orthonormal_basis();
+                        Quadric::ellipsoid_oriented(cs, cv(radii), cv(u), cv(v), axs)
+                    } else {
+                        Quadric::ellipsoid(cs, cv(radii))
+                    }
+                }
                 1 => Quadric::cylinder(cs, axs, f(rng.range(0.2, 1.0))),
                 2 => Quadric::cone(cs, axs, rng.range(0.2, 1.0)),
                 3 => Quadric::paraboloid(cs, axs, f(rng.range(0.1, 1.0))),

@@ -83,6 +83,20 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
     t_max: Lanes<S, W>,
     active: Mask<W>,
 ) -> Roots<S, W> {
+    // A ray outside a slab and not moving into it (the origin below `min`
+    // with the direction component at most 0, or above `max` with it at
+    // least 0) has its whole slab interval at `t <= 0`, which no `t_min ≥ 0`
+    // keeps: those lanes skip the six divisions with the same result.
+    let zero = Lanes::zero();
+    let away = |o: Lanes<S, W>, d: Lanes<S, W>, lo: S, hi: S| {
+        (o.lt(Lanes::splat(lo)) & d.le(zero)) | (o.gt(Lanes::splat(hi)) & d.ge(zero))
+    };
+    let away =
+        away(origin.x, dir.x, min.x, max.x) | away(origin.y, dir.y, min.y, max.y) | away(origin.z, dir.z, min.z, max.z);
+    let active = active & (!away | t_min.lt(zero));
+    if active.none() {
+        return Roots::none();
+    }
     let (nx, fx) = slab_axis(origin.x, dir.x, min.x, max.x);
     let (ny, fy) = slab_axis(origin.y, dir.y, min.y, max.y);
     let (nz, fz) = slab_axis(origin.z, dir.z, min.z, max.z);
@@ -163,6 +177,19 @@ mod tests {
         let n = |p: Vec3<f32>| b.normals::<1>(&p.splat()).lane(0);
         assert_eq!(n(Vec3::new(0.2, 1.0, 0.3)), Vec3::new(0.0, 1.0, 0.0));
         assert_eq!(n(Vec3::new(-1.0, 0.1, 0.3)), Vec3::new(-1.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn a_box_behind_the_origin_counts_only_for_a_negative_t_min() {
+        // The cube lies at t ∈ [−6, −4] along +z from z = 5, and along −x
+        // from x = −3 at t ∈ [−4, −2].
+        assert_eq!(first_after(&cube(), 0.0, [0.0, 0.0, 5.0], [0.0, 0.0, 1.0]), None);
+        assert_eq!(first_after(&cube(), -10.0, [0.0, 0.0, 5.0], [0.0, 0.0, 1.0]), Some(-6.0));
+        assert_eq!(first_after(&cube(), -5.0, [0.0, 0.0, 5.0], [0.0, 0.0, 1.0]), Some(-4.0));
+        assert_eq!(first_after(&cube(), 0.0, [-3.0, 0.5, 0.5], [-1.0, 0.0, 0.0]), None);
+        assert_eq!(first_after(&cube(), -10.0, [-3.0, 0.5, 0.5], [-1.0, 0.0, 0.0]), Some(-4.0));
+        // Outside a slab and parallel to it: never.
+        assert_eq!(first_after(&cube(), -10.0, [0.0, 2.0, 5.0], [0.0, 0.0, 1.0]), None);
     }
 
     #[test]

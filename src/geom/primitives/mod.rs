@@ -85,6 +85,18 @@ pub(crate) mod test_util {
         one.into_iter().map(f32::from_bits).collect()
     }
 
+    /// The nearer crossing in `(t_min, ∞)` of the ray `o + t·d` (unit `d`),
+    /// width 1; `None` if none.
+    pub fn first_after(shape: &Shape<f32>, t_min: f32, o: [f32; 3], d: [f32; 3]) -> Option<f32> {
+        use crate::geom::ray::RayPacket;
+        use crate::num::lanes::{Lanes, Mask};
+        let o = Vec3::new(o[0], o[1], o[2]).splat::<1>();
+        let d = Vec3::new(d[0], d[1], d[2]).splat::<1>();
+        let ray = RayPacket { origin: o, dir: d };
+        let r = shape.roots(&[], &ray, Lanes::splat(t_min), Lanes::splat(f32::MAX), Mask::splat(true));
+        r.hit0.any().then_some(r.t0.0[0])
+    }
+
     /// [`hits_in`] for primitives that do not use the vertex pool.
     pub fn hits(shape: &Shape<f32>, o: [f32; 3], d: [f32; 3]) -> Vec<f32> {
         hits_in(shape, &[], o, d)

@@ -100,6 +100,16 @@ pub(crate) fn plane_crossing<S: Scalar, const W: usize>(
     }
     // Signed distance of the origin, divided by the rate.
     let dist = ray.origin.dot_splat(n) + d;
+    // The crossing lies ahead (t = −dist/rate > 0) only where the distance
+    // and the rate have opposite signs: elsewhere the quotient would be at
+    // most 0 and fail `t > t_min` for the usual `t_min ≥ 0`, so those lanes
+    // skip the division (a long routine in fixed point) with the same result.
+    let zero = Lanes::zero();
+    let ahead = (dist.gt(zero) & denom.lt(zero)) | (dist.lt(zero) & denom.gt(zero)) | t_min.lt(zero);
+    let valid = valid & ahead;
+    if valid.none() {
+        return Roots::none();
+    }
     let t = (-dist).div_nonzero(denom);
     Roots::from_candidates(t, valid, t, Mask::splat(false), t_min, t_max)
 }
@@ -135,6 +145,18 @@ mod tests {
             assert!(hits(&Shape::Plane(p), [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]).is_empty());
             assert!(hits(&Shape::Plane(p), [0.0, 0.0, 2.0], [0.0, 0.0, 1.0]).is_empty());
         }
+    }
+
+    #[test]
+    fn a_crossing_behind_the_origin_counts_only_for_a_negative_t_min() {
+        // z = 1, the ray leaving it upwards from z = 3: the crossing is at t = −2.
+        let p = Shape::Plane(Plane::from_coefficients(0.0f32, 0.0, 1.0, -1.0).unwrap());
+        assert_eq!(first_after(&p, 0.0, [0.0, 0.0, 3.0], [0.0, 0.0, 1.0]), None);
+        assert_eq!(first_after(&p, -10.0, [0.0, 0.0, 3.0], [0.0, 0.0, 1.0]), Some(-2.0));
+        assert_eq!(first_after(&p, -1.0, [0.0, 0.0, 3.0], [0.0, 0.0, 1.0]), None);
+        // On the plane: t = 0, kept only below 0.
+        assert_eq!(first_after(&p, 0.0, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]), None);
+        assert_eq!(first_after(&p, -1.0, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]), Some(0.0));
     }
 
     #[test]

@@ -77,6 +77,83 @@ impl<S: Scalar> Quadric<S> {
         self.clip
     }
 
+    /// An axis-aligned box holding every point of the surface a ray can
+    /// report: the clip box, narrowed to the ellipsoid's box when the
+    /// quadric is a well-conditioned ellipsoid ([`Quadric::ellipsoid_box`]);
+    /// `None` (unbounded) otherwise.
+    pub fn bounds(&self) -> Option<(Vec3<S>, Vec3<S>)> {
+        match (self.clip, self.ellipsoid_box()) {
+            (Some((lo, hi)), Some((elo, ehi))) => {
+                let (lo2, hi2) = (lo.max_elem(elo), hi.min_elem(ehi));
+                // Disjoint boxes: nothing can be hit; the clip box is still a
+                // valid (if loose) answer.
+                if lo2.x <= hi2.x && lo2.y <= hi2.y && lo2.z <= hi2.z {
+                    Some((lo2, hi2))
+                } else {
+                    Some((lo, hi))
+                }
+            }
+            (clip, ext) => clip.or(ext),
+        }
+    }
+
+    /// The box around the surface when it is an ellipsoid, grown by a
+    /// sixteenth of each half-extent; `None` for every other quadric, and
+    /// for ellipsoids too flat for the estimate to be safe.
+    ///
+    /// With `A` the symmetric matrix of the quadratic part and `b = (G, H,
+    /// I)`, the quadric is `xᵀAx + bᵀx + J`. When `A` is positive definite
+    /// (Sylvester: `a > 0`, the leading 2×2 minor and `det A` positive; a
+    /// negative definite `A` is turned round by negating every
+    /// coefficient), its centre is `c = −½A⁻¹b` and the surface is
+    /// `(x − c)ᵀA(x − c) = ρ` with `ρ = −(J + ½bᵀc)`; the extent along axis
+    /// `i` is `√(ρ·(A⁻¹)ᵢᵢ)`. `A⁻¹` is the cofactor matrix over `det A`.
+    ///
+    /// Computed in `f32` from the coefficients the kernel uses, once per
+    /// frame (culling, BVH builds). The condition number of `A` is bounded
+    /// by `tr(A)³/det A` (`λmax ≤ tr A`, `λmin ≥ det A/λmax²`); requiring
+    /// that to be at most 1000 keeps the `f32` rounding of the inverse (and
+    /// of the coefficients themselves) far below the one-sixteenth margin,
+    /// and the ellipsoid close enough to round that the root rounding the
+    /// culling margins cover for spheres (see `query::cull`) covers it too.
+    /// Boxes outside a limited-range scalar's coordinates are refused.
+    pub fn ellipsoid_box(&self) -> Option<(Vec3<S>, Vec3<S>)> {
+        let k = self.k.map(|v| v.to_f32());
+        let sign = if k[0] < 0.0 { -1.0 } else { 1.0 };
+        let [a, b, c, d, e, f, g, h, i, j] = k.map(|v| v * sign);
+        let (d, e, f) = (d * 0.5, e * 0.5, f * 0.5);
+        // Cofactors of the symmetric A = [[a, d, e], [d, b, f], [e, f, c]].
+        let c11 = b * c - f * f;
+        let c22 = a * c - e * e;
+        let c33 = a * b - d * d;
+        let c12 = e * f - d * c;
+        let c13 = d * f - b * e;
+        let c23 = d * e - a * f;
+        let det = a * c11 + d * c12 + e * c13;
+        let trace = a + b + c;
+        if !(a > 0.0 && c33 > 0.0 && det > 0.0 && trace * trace * trace <= 1000.0 * det) {
+            return None;
+        }
+        // c = −½A⁻¹b, from the cofactors.
+        let s = -0.5 / det;
+        let cx = s * (c11 * g + c12 * h + c13 * i);
+        let cy = s * (c12 * g + c22 * h + c23 * i);
+        let cz = s * (c13 * g + c23 * h + c33 * i);
+        let rho = -(j + 0.5 * (g * cx + h * cy + i * cz));
+        if !(rho > 0.0) {
+            return None;
+        }
+        let half = |cof: f32| libm::sqrtf(rho * cof / det) * (1.0 + 1.0 / 16.0);
+        let (hx, hy, hz) = (half(c11), half(c22), half(c33));
+        let lo = [cx - hx, cy - hy, cz - hz];
+        let hi = [cx + hx, cy + hy, cz + hz];
+        let limit = if S::LIMITED_RANGE { S::COORDINATE_LIMIT } else { f32::MAX };
+        if lo.iter().chain(hi.iter()).any(|v| !v.is_finite() || v.abs() > limit) {
+            return None;
+        }
+        Some((Vec3::from_f32(lo[0], lo[1], lo[2]), Vec3::from_f32(hi[0], hi[1], hi[2])))
+    }
+
     /// A quadric given in a local frame (origin `center`, orthonormal axes
     /// `u, v, w` as local x, y, z), with local coefficients `local`, expressed
     /// in world coordinates: `M_world = Tᵀ M_local T` where `T` maps world to
@@ -361,6 +438,83 @@ mod tests {
 
     fn close(a: &[f32], b: &[f32]) -> bool {
         a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-4)
+    }
+
+    /// Points of the ellipsoid `center + R·(rx cos θ cos φ, ry sin θ cos φ,
+    /// rz sin φ)` on a grid of angles.
+    fn ellipsoid_points(c: Vec3<f32>, r: [f32; 3], axes: [Vec3<f32>; 3]) -> impl Iterator<Item = Vec3<f32>> {
+        (0..24).flat_map(move |i| {
+            (0..13).map(move |j| {
+                let (th, ph) =
+                    (i as f32 * core::f32::consts::TAU / 24.0, (j as f32 / 12.0 - 0.5) * core::f32::consts::PI);
+                c + axes[0].scale(r[0] * th.cos() * ph.cos())
+                    + axes[1].scale(r[1] * th.sin() * ph.cos())
+                    + axes[2].scale(r[2] * ph.sin())
+            })
+        })
+    }
+
+    #[test]
+    fn ellipsoid_box_holds_the_surface_and_is_tight() {
+        let c = Vec3::new(1.2f32, -0.5, 3.0);
+        let w = Vec3::new(1.0f32, 2.0, 0.5).normalize_or_zero();
+        let (u, v) = w.orthonormal_basis();
+        let r = [0.5f32, 0.3, 0.9];
+        let q = Quadric::ellipsoid_oriented(c, Vec3::new(r[0], r[1], r[2]), u, v, w).unwrap();
+        let (lo, hi) = q.bounds().unwrap();
+        let mut seen_lo = Vec3::new(f32::MAX, f32::MAX, f32::MAX);
+        let mut seen_hi = -seen_lo;
+        for p in ellipsoid_points(c, r, [u, v, w]) {
+            assert!(p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z, "{p:?}");
+            seen_lo = seen_lo.min_elem(p);
+            seen_hi = seen_hi.max_elem(p);
+        }
+        // At most the 1/16 margin (and the grid's sampling) looser.
+        for (box_span, seen_span) in [(hi.x - lo.x, seen_hi.x - seen_lo.x), (hi.z - lo.z, seen_hi.z - seen_lo.z)] {
+            assert!(box_span < seen_span * 1.1, "{box_span} vs {seen_span}");
+        }
+        // The same quadric with every coefficient negated has the same box.
+        let neg = Quadric::new(q.coefficients().map(|k| -k)).unwrap();
+        assert_eq!(neg.bounds(), q.bounds());
+    }
+
+    #[test]
+    fn only_round_enough_ellipsoids_are_bounded() {
+        let o = Vec3::new(0.0f32, 0.0, 0.0);
+        assert!(Quadric::ellipsoid(o, Vec3::new(1.0, 1.0, 1.0)).unwrap().bounds().is_some());
+        // 1 : 100 is too flat for the estimate; open quadrics have no box.
+        assert_eq!(Quadric::ellipsoid(o, Vec3::new(1.0, 1.0, 0.01)).unwrap().bounds(), None);
+        assert_eq!(Quadric::cylinder(o, Vec3::new(0.0, 0.0, 1.0), 1.0).unwrap().bounds(), None);
+        assert_eq!(Quadric::hyperboloid_two_sheets(o, Vec3::new(0.0, 0.0, 1.0), 1.0, 1.0).unwrap().bounds(), None);
+        // x² + y² + z² + 1 = 0 has no points: unbounded rather than a guess.
+        assert_eq!(Quadric::new([1.0f32, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]).unwrap().bounds(), None);
+        // A clip box narrows to the ellipsoid's box, and the other way round.
+        let clipped = Quadric::ellipsoid(o, Vec3::new(1.0, 1.0, 1.0))
+            .unwrap()
+            .with_clip(Vec3::new(-5.0, -5.0, 0.0), Vec3::new(5.0, 5.0, 5.0))
+            .unwrap();
+        let (lo, hi) = clipped.bounds().unwrap();
+        assert_eq!((lo.z, hi.x), (0.0, 1.0625));
+        let cyl = Quadric::cylinder(o, Vec3::new(0.0, 0.0, 1.0), 1.0).unwrap();
+        let clip = (Vec3::new(-2.0, -2.0, 0.0), Vec3::new(2.0, 2.0, 1.0));
+        assert_eq!(cyl.with_clip(clip.0, clip.1).unwrap().bounds(), Some(clip));
+    }
+
+    #[test]
+    fn ellipsoid_box_in_q8_24_holds_the_surface() {
+        use crate::geom::uniform_scale::Similarity;
+        use crate::num::fixed32::Fixed32;
+        let (c, r) = (Vec3::new(1.2f32, 1.3, 0.35), [0.5f32, 0.3, 0.35]);
+        let q = Quadric::ellipsoid(c, Vec3::new(r[0], r[1], r[2])).unwrap();
+        let sim = Similarity { origin: [0.0, 0.5, 1.0], scale: 0.2 };
+        let fq: Quadric<Fixed32> = q.similar(&sim);
+        let (lo, hi) = fq.bounds().unwrap();
+        let (lo, hi) = (lo.to_f32(), hi.to_f32());
+        let axes = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.0, 1.0)];
+        for p in ellipsoid_points(c, r, axes) {
+            let [x, y, z] = sim.point::<f32, f32>(p).to_f32();
+            assert!(x >= lo[0] && y >= lo[1] && z >= lo[2] && x <= hi[0] && y <= hi[1] && z <= hi[2]);
+        }
     }
 
     #[test]

@@ -160,7 +160,7 @@ impl<S: Scalar> Shape<S> {
             Shape::Polygon(p) => Some(p.bounds(pool)),
             Shape::AaBox(b) => Some((b.min(), b.max())),
             Shape::OrientedBox(b) => Some(b.bounds()),
-            Shape::Quadric(q) => q.clip_box(),
+            Shape::Quadric(q) => q.bounds(),
             Shape::Cone(c) => Some(c.bounds()),
         }
     }
