@@ -109,14 +109,19 @@ pub trait Scalar:
     /// `self · 2^k` for a `k` from [`Scalar::normalizing_exponent`], bit for
     /// bit the product `self * self_type(2^k)` (a type whose product rounds
     /// overrides it with a shift that rounds the same way). The default
-    /// multiplies by the factor, which is 1 for the default exponent.
+    /// multiplies by the factor `2^k`, formed exactly.
     #[inline(always)]
     fn mul_pow2(self, k: i32) -> Self {
         if k == 0 {
-            self
-        } else {
-            self * Self::from_f32(libm::exp2f(k as f32))
+            return self;
         }
+        // 2^k, exactly (powers of two are representable; |k| is small).
+        let (step, n) = if k > 0 { (Self::TWO, k) } else { (Self::HALF, -k) };
+        let mut f = Self::ONE;
+        for _ in 0..n.min(64) {
+            f = f * step;
+        }
+        self * f
     }
 
     /// `num / den` for image coordinates (the camera's pixel centres:
