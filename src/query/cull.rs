@@ -124,25 +124,19 @@ fn resolution<S: Scalar>() -> f32 {
     v
 }
 
-/// `v` in `f32` (out of line: one copy for every conversion of the tables).
-#[inline(never)]
-fn f32s<S: Scalar>(v: Vec3<S>) -> [f32; 3] {
-    v.to_f32()
-}
-
-/// A primitive's bounds in `f32` (out of line: one copy for all the
-/// tables' loops).
+/// A primitive's bounds in `f32` (out of line: one copy for the three
+/// loops of the tables, less flash on small firmware).
 #[inline(never)]
 fn bounds_f32<S: Scalar>(shape: &Shape<S>, pool: &[Vec3<S>]) -> Option<([f32; 3], [f32; 3])> {
-    shape.bounds(pool).map(|(lo, hi)| (f32s(lo), f32s(hi)))
+    shape.bounds(pool).map(|(lo, hi)| (lo.to_f32(), hi.to_f32()))
 }
 
 fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// The largest magnitude of `a`'s components (out of line: it is called
-/// from every table's loops).
+/// The largest magnitude of `a`'s components (out of line, as
+/// [`bounds_f32`]).
 #[inline(never)]
 fn max_abs(a: [f32; 3]) -> f32 {
     a[0].abs().max(a[1].abs()).max(a[2].abs())
@@ -179,10 +173,10 @@ impl ScreenCull {
             y1: h.saturating_sub(1).min(65535) as u16,
         };
         let view = View {
-            eye: f32s(camera.eye()),
-            f: f32s(f),
-            r: f32s(r),
-            u: f32s(u),
+            eye: camera.eye().to_f32(),
+            f: f.to_f32(),
+            r: r.to_f32(),
+            u: u.to_f32(),
             sx: sx.to_f32(),
             sy: sy.to_f32(),
             w: w as f32,
@@ -213,16 +207,10 @@ impl ScreenCull {
     }
 
     /// The primitives whose rectangle meets the rows `y0 ..= y1` (what a
-    /// band of rows narrows [`ScreenCull::candidates`] to).
+    /// band of rows narrows [`ScreenCull::candidates`] to; a primitive no
+    /// pixel sees may stay in, as the packets' own test leaves it out).
     pub fn rows(&self, y0: u32, y1: u32) -> Candidates {
-        let mut m = 0;
-        for (k, r) in self.rects.iter().take(self.len).enumerate() {
-            if r.overlaps(r.x0 as u32, r.x1 as u32, y0, y1) {
-                m |= 1 << k;
-            }
-        }
-        // Primitives beyond the table (none: `new` refuses them) stay in.
-        m | !low_bits(self.len)
+        self.candidates(ALL, 0, u32::MAX, y0, y1)
     }
 
     /// The primitives among `within` whose rectangle meets the pixels
@@ -387,7 +375,7 @@ impl<S: Scalar> ShadowCull<S> {
         // The scene's extent: lights and bounded primitives.
         let mut extent = 0.0f32;
         for l in scene.lights() {
-            extent = extent.max(max_abs(f32s(l.position)));
+            extent = extent.max(max_abs(l.position.to_f32()));
         }
         for p in prims {
             if let Some((lo, hi)) = bounds_f32(&p.shape, pool) {
@@ -406,7 +394,7 @@ impl<S: Scalar> ShadowCull<S> {
             return Ok(());
         }
         for (row, l) in self.occluders.iter_mut().zip(scene.lights()) {
-            let lp = f32s(l.position);
+            let lp = l.position.to_f32();
             for (slot, p) in row.iter_mut().zip(prims) {
                 *slot = match bounds_f32(&p.shape, pool) {
                     None => none,
