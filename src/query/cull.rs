@@ -217,10 +217,20 @@ impl ScreenCull {
     /// `[x0, x1] × [y0, y1]` (inclusive).
     pub fn candidates(&self, within: Candidates, x0: u32, x1: u32, y0: u32, y1: u32) -> Candidates {
         let mut m = within & !low_bits(self.len);
-        for (k, r) in self.rects.iter().take(self.len).enumerate() {
-            if within & (1 << k) != 0 && r.overlaps(x0, x1, y0, y1) {
-                m |= 1 << k;
+        // The candidates not yet tested, lowest first; done when none is left.
+        let mut rest = within & low_bits(self.len);
+        let mut bit: Candidates = 1;
+        for r in self.rects.iter() {
+            if rest == 0 {
+                break;
             }
+            if rest & bit != 0 {
+                rest ^= bit;
+                if r.overlaps(x0, x1, y0, y1) {
+                    m |= bit;
+                }
+            }
+            bit <<= 1;
         }
         m
     }
