@@ -124,9 +124,7 @@ fn resolution<S: Scalar>() -> f32 {
     v
 }
 
-/// A primitive's bounds in `f32` (out of line: one copy for the three
-/// loops of the tables, less flash on small firmware).
-#[inline(never)]
+/// A primitive's bounds in `f32`.
 fn bounds_f32<S: Scalar>(shape: &Shape<S>, pool: &[Vec3<S>]) -> Option<([f32; 3], [f32; 3])> {
     shape.bounds(pool).map(|(lo, hi)| (lo.to_f32(), hi.to_f32()))
 }
