@@ -216,3 +216,46 @@ fn demo_frame_culls_and_matches_band_by_band() {
     one::<Fixed32>();
     one::<Fixed>();
 }
+
+/// Every pixel whose camera ray (at the pixel's centre, and at the corner
+/// subpixels of a 3 × 3 grid) reports a crossing with a primitive lies in
+/// that primitive's rectangle: seeded random scenes and cameras, every
+/// primitive tested directly with no culling. Returns the crossings seen.
+fn rectangles_hold_hits<S: Scalar>(seed: u64, cases: u32, scale: f32, name: &str) -> usize {
+    let mut rng = Rng(seed);
+    let mut crossings = 0;
+    for case in 0..cases {
+        let n = 1 + rng.below(14) as usize;
+        let scene = random_scene_in::<f32>(&mut rng, n);
+        let (w, h) = (8 + rng.below(24), 6 + rng.below(18));
+        let eye = rng.unit().scale(rng.range(3.0, 14.0));
+        let at = rng.vec(-1.0, 1.0);
+        let fov = rng.range(10.0, 120.0);
+        let Some(cam) = camera::<S>(eye.scale(scale), at.scale(scale), fov, w, h) else { continue };
+        let Some(scaled) = scaled_scene::<S>(&scene.view(), scale) else { continue };
+        let view = scaled.view();
+        let cull = ScreenCull::new(&view, &cam).unwrap();
+        for (y, x) in (0..h).flat_map(|y| (0..w).map(move |x| (y, x))) {
+            for (a, b, g) in [(0, 0, 1), (0, 0, 3), (2, 0, 3), (0, 2, 3), (2, 2, 3)] {
+                let (ray, active) = cam.subpixel_packet::<1>(x, y, cam.full_rect(), g, a, b);
+                for (k, p) in view.primitives().iter().enumerate() {
+                    let r = p.shape.roots(view.vertices(), &ray, Lanes::splat(S::ZERO), Lanes::splat(S::MAX), active);
+                    if r.hit0.any() || r.hit1.any() {
+                        crossings += 1;
+                        assert!(cull.covers(k, x, y), "{name} case {case}: primitive {k} hit at pixel ({x}, {y})");
+                    }
+                }
+            }
+        }
+    }
+    crossings
+}
+
+#[test]
+fn cull_rectangles_hold_every_hit_pixel() {
+    assert!(rectangles_hold_hits::<f32>(0xC018, 40, 1.0, "f32") > 1000);
+    assert!(rectangles_hold_hits::<f32>(0xC019, 15, 1.0e-3, "f32 x1e-3") > 100);
+    assert!(rectangles_hold_hits::<Fixed32>(0xC01A, 30, 0.12, "fixed32") > 1000);
+    assert!(rectangles_hold_hits::<Fixed32>(0xC01B, 15, 0.01, "fixed32 x0.01") > 100);
+    assert!(rectangles_hold_hits::<Fixed>(0xC01C, 20, 1.0, "fixed") > 1000);
+}

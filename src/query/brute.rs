@@ -5,7 +5,9 @@
 
 use super::accelerator::{Accelerator, Hit};
 use super::cull::{Candidates, ALL};
-use crate::geom::ray::RayPacket;
+use crate::geom::primitives::Shape;
+use crate::geom::ray::{RayPacket, Roots};
+use crate::geom::vec3::Vec3;
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
@@ -94,7 +96,7 @@ pub(crate) fn closest_hit<S: Scalar, const W: usize>(
             }
             // Only roots strictly nearer than the best so far come back, so a
             // later primitive at the same distance never replaces an earlier one.
-            let r = p.shape.roots(verts, ray, t_min, best_t, active);
+            let r = roots(&p.shape, verts, ray, t_min, best_t, active);
             let (t, m) = r.nearest();
             if m.none() {
                 continue;
@@ -147,7 +149,7 @@ pub(crate) fn transmittance_among<S: Scalar, const W: usize>(
         if candidates.checked_shr(k as u32).is_some_and(|c| c & 1 == 0) {
             continue;
         }
-        let r = p.shape.roots(verts, ray, t_min, t_max, live);
+        let r = roots(&p.shape, verts, ray, t_min, t_max, live);
         if r.hit0.none() {
             continue;
         }
@@ -163,6 +165,44 @@ pub(crate) fn transmittance_among<S: Scalar, const W: usize>(
         }
     }
     trans
+}
+
+/// [`Shape::roots`] for the query loops. On RV32 in fixed point, where
+/// every product is inline code, the kernels of oriented boxes, quadrics
+/// and cones are one out-of-line copy per scalar and width
+/// ([`roots_apart`]) shared by both loops, not one inlined into each: the
+/// `riscv-virt` image is 15 KB smaller and its `fixed32` frame no slower
+/// (`scripts/firmware.sh`). Elsewhere every kernel stays where it was: in
+/// floating point the soft-float kernels gain from constants at the call
+/// site, on the host and the Cortex-M4/M55 speed comes first, and on
+/// Armv6-M [`Shape::roots`] is out of line already.
+#[inline(always)]
+fn roots<S: Scalar, const W: usize>(
+    shape: &Shape<S>,
+    pool: &[Vec3<S>],
+    ray: &RayPacket<S, W>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    active: Mask<W>,
+) -> Roots<S, W> {
+    const SHARED: bool = cfg!(target_arch = "riscv32");
+    if SHARED && S::LIMITED_RANGE && matches!(shape, Shape::OrientedBox(_) | Shape::Quadric(_) | Shape::Cone(_)) {
+        return roots_apart(shape, pool, ray, t_min, t_max, active);
+    }
+    shape.roots(pool, ray, t_min, t_max, active)
+}
+
+/// [`Shape::roots`] out of line (see [`roots`]).
+#[inline(never)]
+fn roots_apart<S: Scalar, const W: usize>(
+    shape: &Shape<S>,
+    pool: &[Vec3<S>],
+    ray: &RayPacket<S, W>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    active: Mask<W>,
+) -> Roots<S, W> {
+    shape.roots(pool, ray, t_min, t_max, active)
 }
 
 #[cfg(test)]

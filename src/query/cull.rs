@@ -46,6 +46,7 @@
 //! compare every byte.
 
 use crate::geom::camera::Camera;
+use crate::geom::primitives::Shape;
 use crate::geom::vec3::{Vec3, Vec3xW};
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
@@ -123,10 +124,18 @@ fn resolution<S: Scalar>() -> f32 {
     v
 }
 
+/// A primitive's bounds in `f32`.
+fn bounds_f32<S: Scalar>(shape: &Shape<S>, pool: &[Vec3<S>]) -> Option<([f32; 3], [f32; 3])> {
+    shape.bounds(pool).map(|(lo, hi)| (lo.to_f32(), hi.to_f32()))
+}
+
 fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// The largest magnitude of `a`'s components (out of line, as
+/// [`bounds_f32`]).
+#[inline(never)]
 fn max_abs(a: [f32; 3]) -> f32 {
     a[0].abs().max(a[1].abs()).max(a[2].abs())
 }
@@ -177,9 +186,9 @@ impl ScreenCull {
         let delta = 1024.0 * rho.max(1.0 / 16_777_216.0) * (1.0 + view.sx * view.sx + view.sy * view.sy);
         let mut rects = [PixelRect::EMPTY; CULL_CAPACITY];
         for (slot, p) in rects.iter_mut().zip(prims) {
-            *slot = match p.shape.bounds(scene.vertices()) {
+            *slot = match bounds_f32(&p.shape, scene.vertices()) {
                 None => full,
-                Some((lo, hi)) => view.rect(lo.to_f32(), hi.to_f32(), eps, rho, delta),
+                Some((lo, hi)) => view.rect(lo, hi, eps, rho, delta),
             };
         }
         Ok(ScreenCull { rects, len: prims.len(), full })
@@ -196,26 +205,30 @@ impl ScreenCull {
     }
 
     /// The primitives whose rectangle meets the rows `y0 ..= y1` (what a
-    /// band of rows narrows [`ScreenCull::candidates`] to).
+    /// band of rows narrows [`ScreenCull::candidates`] to; a primitive no
+    /// pixel sees may stay in, as the packets' own test leaves it out).
     pub fn rows(&self, y0: u32, y1: u32) -> Candidates {
-        let mut m = 0;
-        for (k, r) in self.rects.iter().take(self.len).enumerate() {
-            if r.overlaps(r.x0 as u32, r.x1 as u32, y0, y1) {
-                m |= 1 << k;
-            }
-        }
-        // Primitives beyond the table (none: `new` refuses them) stay in.
-        m | !low_bits(self.len)
+        self.candidates(ALL, 0, u32::MAX, y0, y1)
     }
 
     /// The primitives among `within` whose rectangle meets the pixels
     /// `[x0, x1] × [y0, y1]` (inclusive).
     pub fn candidates(&self, within: Candidates, x0: u32, x1: u32, y0: u32, y1: u32) -> Candidates {
         let mut m = within & !low_bits(self.len);
-        for (k, r) in self.rects.iter().take(self.len).enumerate() {
-            if within & (1 << k) != 0 && r.overlaps(x0, x1, y0, y1) {
-                m |= 1 << k;
+        // The candidates not yet tested, lowest first; done when none is left.
+        let mut rest = within & low_bits(self.len);
+        let mut bit: Candidates = 1;
+        for r in self.rects.iter() {
+            if rest == 0 {
+                break;
             }
+            if rest & bit != 0 {
+                rest ^= bit;
+                if r.overlaps(x0, x1, y0, y1) {
+                    m |= bit;
+                }
+            }
+            bit <<= 1;
         }
         m
     }
@@ -288,13 +301,22 @@ fn span(c0: f32, c1: f32, last: u16) -> Option<(u16, u16)> {
     if !c0.is_finite() || !c1.is_finite() {
         return Some((0, last));
     }
-    // `as` saturates (and the values are finite): no panic, no wrap.
-    let i0 = libm::floorf(c0) as i64 - 2;
-    let i1 = libm::floorf(c1) as i64 + 1;
-    if i1 < 0 || i0 > last as i64 || i0 > i1 {
+    // From `floor(c0) − 2` to `floor(c1) + 1`, in unsigned integers: for
+    // `c >= 0` the conversion (which truncates, and saturates: no panic,
+    // no wrap) is the floor; a negative `c0` starts at pixel 0 anyway, and
+    // a `c1` in `[−1, 0)` ends there.
+    let i0 = if c0 >= 0.0 { (c0 as u32).saturating_sub(2) } else { 0 };
+    let i1 = if c1 >= 0.0 {
+        (c1 as u32).saturating_add(1)
+    } else if c1 >= -1.0 {
+        0
+    } else {
+        return None;
+    };
+    if i0 > last as u32 || i0 > i1 {
         return None;
     }
-    Some((i0.max(0) as u16, i1.min(last as i64) as u16))
+    Some((i0 as u16, i1.min(last as u32) as u16))
 }
 
 /// Most lights a [`ShadowCull`] holds (the shadow rays of further lights
@@ -385,8 +407,8 @@ impl<S: Scalar> ShadowCull<S> {
             extent = extent.max(max_abs(l.position.to_f32()));
         }
         for p in prims {
-            if let Some((lo, hi)) = p.shape.bounds(pool) {
-                extent = extent.max(max_abs(lo.to_f32())).max(max_abs(hi.to_f32()));
+            if let Some((lo, hi)) = bounds_f32(&p.shape, pool) {
+                extent = extent.max(max_abs(lo)).max(max_abs(hi));
             }
         }
         let rho = resolution::<S>();
@@ -403,9 +425,9 @@ impl<S: Scalar> ShadowCull<S> {
         for (row, l) in self.occluders.iter_mut().zip(scene.lights()) {
             let lp = l.position.to_f32();
             for (slot, p) in row.iter_mut().zip(prims) {
-                *slot = match p.shape.bounds(pool) {
+                *slot = match bounds_f32(&p.shape, pool) {
                     None => none,
-                    Some((lo, hi)) => cone(lp, lo.to_f32(), hi.to_f32(), grow).unwrap_or(none),
+                    Some((lo, hi)) => cone(lp, lo, hi, grow).unwrap_or(none),
                 };
             }
         }

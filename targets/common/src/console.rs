@@ -9,8 +9,10 @@ pub trait Console {
     /// Writes `v` in decimal.
     fn write_u64(&mut self, v: u64) {
         let mut digits = [0u8; 20];
-        let s = format_u64(v, &mut digits);
-        self.write_str(s);
+        let n = decimal_digits(v, &mut digits);
+        for &d in digits.iter().skip(20usize.saturating_sub(n)) {
+            self.write_str(DIGITS[d as usize & 15]);
+        }
     }
     /// Writes `v` in decimal.
     fn write_u32(&mut self, v: u32) {
@@ -18,9 +20,32 @@ pub trait Console {
     }
     /// Writes `v` as `0x` and 8 lower-case hexadecimal digits.
     fn write_hex32(&mut self, v: u32) {
-        let mut digits = [0u8; 10];
-        self.write_str(format_hex32(v, &mut digits));
+        self.write_str("0x");
+        for k in 0..8 {
+            self.write_str(DIGITS[(v >> (28 - 4 * k)) as usize & 15]);
+        }
     }
+}
+
+/// The digits `0`–`9`, `a`–`f` as strings: the console writes a number
+/// digit by digit, so no bytes are turned into a `str` (whose UTF-8 check
+/// would be the largest formatting routine in a small image).
+const DIGITS: [&str; 16] = ["0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "a", "b", "c", "d", "e", "f"];
+
+/// The decimal digits of `v` (values 0–9), in the tail of `buf`; returns
+/// how many.
+fn decimal_digits(mut v: u64, buf: &mut [u8; 20]) -> usize {
+    let mut n = 0;
+    // 20 digits hold u64::MAX.
+    for d in buf.iter_mut().rev() {
+        *d = (v % 10) as u8;
+        n += 1;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
+    }
+    n
 }
 
 /// `v` in decimal, in the tail of `buf`.
@@ -65,5 +90,26 @@ mod tests {
         let mut h = [0u8; 10];
         assert_eq!(format_hex32(0x0123_abcd, &mut h), "0x0123abcd");
         assert_eq!(format_hex32(u32::MAX, &mut h), "0xffffffff");
+    }
+
+    struct Text(std::string::String);
+    impl Console for Text {
+        fn write_str(&mut self, s: &str) {
+            self.0.push_str(s);
+        }
+    }
+
+    #[test]
+    fn the_console_writes_the_same_digits() {
+        for v in [0, 7, 10, 20480, 890_604_400, u32::MAX as u64, u64::MAX] {
+            let mut t = Text(std::string::String::new());
+            t.write_u64(v);
+            assert_eq!(t.0, std::format!("{v}"));
+        }
+        for v in [0, 0x0123_abcd, u32::MAX] {
+            let mut t = Text(std::string::String::new());
+            t.write_hex32(v);
+            assert_eq!(t.0, std::format!("{v:#010x}"));
+        }
     }
 }
