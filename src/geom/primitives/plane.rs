@@ -103,13 +103,19 @@ pub(crate) fn plane_crossing<S: Scalar, const W: usize>(
     // The crossing lies ahead (t = −dist/rate > 0) only where the distance
     // and the rate have opposite signs: elsewhere the quotient would be at
     // most 0 and fail `t > t_min` for the usual `t_min ≥ 0`, so those lanes
-    // skip the division (a long routine in fixed point) with the same result.
-    let zero = Lanes::zero();
-    let ahead = (dist.gt(zero) & denom.lt(zero)) | (dist.lt(zero) & denom.gt(zero)) | t_min.lt(zero);
-    let valid = valid & ahead;
-    if valid.none() {
-        return Roots::none();
-    }
+    // skip the division (a long routine in fixed point and in soft float)
+    // with the same result. On x86, where a division is one instruction,
+    // the extra test and branch cost more than they save (gears-2).
+    #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+    let valid = {
+        let zero = Lanes::zero();
+        let ahead = (dist.gt(zero) & denom.lt(zero)) | (dist.lt(zero) & denom.gt(zero)) | t_min.lt(zero);
+        let valid = valid & ahead;
+        if valid.none() {
+            return Roots::none();
+        }
+        valid
+    };
     let t = (-dist).div_nonzero(denom);
     Roots::from_candidates(t, valid, t, Mask::splat(false), t_min, t_max)
 }
