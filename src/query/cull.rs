@@ -323,6 +323,11 @@ fn span(c0: f32, c1: f32, last: u16) -> Option<(u16, u16)> {
 /// test every primitive).
 pub const SHADOW_LIGHTS: usize = 2;
 
+/// Most primitives a [`ShadowCull`] holds per light: the first ones of the
+/// scene; shadow rays test every further primitive. (Each entry is a few
+/// dozen bytes, and the table lives on the stack of small firmware.)
+pub const SHADOW_OCCLUDERS: usize = 16;
+
 /// One primitive as seen from one light: shadow rays whose direction `d`
 /// (towards the light) lies outside the box `[dlo, dhi]`, or has
 /// `d·axis > limit`, cannot reach it. The box is tested first: six
@@ -370,7 +375,7 @@ impl<S: Scalar> Occluder<S> {
 /// out (a far point of a plane) test every primitive.
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowCull<S> {
-    occluders: [[Occluder<S>; CULL_CAPACITY]; SHADOW_LIGHTS],
+    occluders: [[Occluder<S>; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
     lights: usize,
     len: usize,
     /// Largest offset scale of a hit point whose shadow rays may be culled.
@@ -381,7 +386,7 @@ impl<S: Scalar> ShadowCull<S> {
     /// A table that culls nothing (every primitive a candidate).
     pub fn empty() -> Self {
         ShadowCull {
-            occluders: [[Occluder::ALWAYS; CULL_CAPACITY]; SHADOW_LIGHTS],
+            occluders: [[Occluder::ALWAYS; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
             lights: 0,
             len: 0,
             eps_limit: S::ZERO,
@@ -432,7 +437,9 @@ impl<S: Scalar> ShadowCull<S> {
             }
         }
         self.lights = scene.lights().len().min(SHADOW_LIGHTS);
-        self.len = prims.len();
+        // Primitives past the table stay candidates (`candidates` sets
+        // every bit from `len` up).
+        self.len = prims.len().min(SHADOW_OCCLUDERS);
         self.eps_limit = S::from_f32(e_lim);
         Ok(())
     }
@@ -646,6 +653,22 @@ mod tests {
         let d = unit(0.0, 0.5, 1.0);
         assert!(d.dot_splat(o.axis).le(Lanes::splat(o.limit)).all(), "the cone alone keeps it");
         assert_eq!(c.candidates(0, &d, eps, lit) & 1, 0);
+    }
+
+    #[test]
+    fn primitives_past_the_shadow_table_stay_candidates() {
+        let mut s = Scene::<f32, 24, 8, 2, 2>::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        for k in 0..SHADOW_OCCLUDERS + 2 {
+            s.add_sphere(Vec3::new(k as f32 * 3.0, 5.0, 0.0), 1.0, m).unwrap();
+        }
+        s.add_light(Vec3::new(0.0, 10.0, 0.0), Vec3::new(1.0, 1.0, 1.0)).unwrap();
+        let mut c = ShadowCull::<f32>::empty();
+        c.fill(&s.view()).unwrap();
+        // Straight down, away from every sphere: only the ones past the table.
+        let dir = Vec3::new(Lanes([0.0]), Lanes([-1.0]), Lanes([0.0]));
+        let got = c.candidates(0, &dir, Lanes([1.0e-4]), Mask::splat(true));
+        assert_eq!(got & low_bits(SHADOW_OCCLUDERS + 2), 0b11 << SHADOW_OCCLUDERS);
     }
 
     #[test]
