@@ -88,9 +88,6 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
     // least 0) has its whole slab interval at `t <= 0`, which no `t_min ≥ 0`
     // keeps: those lanes skip the six divisions with the same result.
     let zero = Lanes::zero();
-    let away = |o: Lanes<S, W>, d: Lanes<S, W>, lo: S, hi: S| {
-        (o.lt(Lanes::splat(lo)) & d.le(zero)) | (o.gt(Lanes::splat(hi)) & d.ge(zero))
-    };
     let away =
         away(origin.x, dir.x, min.x, max.x) | away(origin.y, dir.y, min.y, max.y) | away(origin.z, dir.z, min.z, max.z);
     let active = active & (!away | t_min.lt(zero));
@@ -108,6 +105,14 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
         return Roots::none();
     }
     Roots::from_candidates(t_near, hit, t_far, hit & t_far.gt(t_near), t_min, t_max)
+}
+
+/// Lanes outside the slab `[lo, hi]` and not moving into it (a function,
+/// not a closure, so that it is inlined: see `dispatch`).
+#[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+fn away<S: Scalar, const W: usize>(o: Lanes<S, W>, d: Lanes<S, W>, lo: S, hi: S) -> Mask<W> {
+    let zero = Lanes::zero();
+    (o.lt(Lanes::splat(lo)) & d.le(zero)) | (o.gt(Lanes::splat(hi)) & d.ge(zero))
 }
 
 /// Entry and exit distances `(near, far)` of one slab `lo <= o + t·d <= hi`.
