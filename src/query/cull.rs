@@ -126,7 +126,7 @@ fn resolution<S: Scalar>() -> f32 {
 
 /// A primitive's bounds in `f32`.
 fn bounds_f32<S: Scalar>(shape: &Shape<S>, pool: &[Vec3<S>]) -> Option<([f32; 3], [f32; 3])> {
-    shape.bounds(pool).map(|(lo, hi)| (lo.to_f32(), hi.to_f32()))
+    shape.cull_bounds(pool).map(|(lo, hi)| (lo.to_f32(), hi.to_f32()))
 }
 
 fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {

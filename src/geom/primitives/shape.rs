@@ -160,8 +160,18 @@ impl<S: Scalar> Shape<S> {
             Shape::Polygon(p) => Some(p.bounds(pool)),
             Shape::AaBox(b) => Some((b.min(), b.max())),
             Shape::OrientedBox(b) => Some(b.bounds()),
-            Shape::Quadric(q) => q.bounds(),
+            Shape::Quadric(q) => q.clip_box(),
             Shape::Cone(c) => Some(c.bounds()),
+        }
+    }
+
+    /// The box frame culling uses: [`Shape::bounds`], and for a quadric its
+    /// clip box narrowed to (or replaced by) its ellipsoid's box
+    /// ([`Quadric::bounds`]). The BVH keeps [`Shape::bounds`].
+    pub fn cull_bounds(&self, pool: &[Vec3<S>]) -> Option<(Vec3<S>, Vec3<S>)> {
+        match self {
+            Shape::Quadric(q) => q.bounds(),
+            _ => self.bounds(pool),
         }
     }
 }
