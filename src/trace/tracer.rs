@@ -441,16 +441,17 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let eps = offset_scale(&surf.point);
         let shadow_origin = surf.point + surf.geometric.scale(eps);
         let lights = self.scene.lights();
+        // The geometric normal is the shading one except on patches; where
+        // every lane's are equal, so are their products with a light's
+        // direction (worked out once per hit packet, not per light).
+        let (g, n) = (&surf.geometric, &surf.shading);
+        let flat = (g.x.eq_lanes(n.x) & g.y.eq_lanes(n.y) & g.z.eq_lanes(n.z)).all();
         for (li, light) in (0..lights.len()).zip(lights.iter()) {
             // Direction and distance to the light.
             let to_light = light.position.splat::<W>() - surf.point;
             let (l_dir, ok) = to_light.normalize();
             let n_dot_l = surf.shading.dot(l_dir);
-            // The geometric normal is the shading one except on patches; where
-            // every lane's are equal, so is the product.
-            let (g, n) = (&surf.geometric, &surf.shading);
-            let same = g.x.eq_lanes(n.x) & g.y.eq_lanes(n.y) & g.z.eq_lanes(n.z);
-            let g_dot_l = if same.all() { n_dot_l } else { g.dot(l_dir) };
+            let g_dot_l = if flat { n_dot_l } else { surf.geometric.dot(l_dir) };
             // Only lights on the lit side of both the geometric and the shading surface.
             let lit = hit.mask & ok & n_dot_l.gt(zero) & g_dot_l.gt(zero);
             if lit.none() {
