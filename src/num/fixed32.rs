@@ -1152,9 +1152,22 @@ impl Scalar for Fixed32 {
     }
     #[inline]
     fn to_f32(self) -> f32 {
-        // One rounding (i32 → f32, to nearest even); the power-of-two scale
-        // is exact.
-        self.0 as f32 * (1.0 / RAW_ONE as f32)
+        // raw·2⁻²⁴ with one rounding (i32 → f32, to nearest even). The
+        // power-of-two scale is exact, and is applied to the exponent
+        // field rather than as a product: a nonzero raw converts to
+        // |f| ≥ 1 (biased exponent ≥ 127), so subtracting 24 from the
+        // exponent gives a normal number, bit for bit `f · 2⁻²⁴`, and zero
+        // stays zero. (The product form, vectorised for Helium, is what
+        // LLVM 22 folds into MVE's fixed-point `vcvt`, whose fraction-bit
+        // count it sometimes emits as a register: garbage bits
+        // (`scripts/firmware.sh` rejects such images).)
+        let f = self.0 as f32;
+        let scaled = f32::from_bits(f.to_bits().wrapping_sub(FRAC << 23));
+        if self.0 == 0 {
+            0.0
+        } else {
+            scaled
+        }
     }
     // Out of line, like `div`.
     #[inline(never)]
@@ -1245,6 +1258,31 @@ mod tests {
 
     fn fx(v: f64) -> Fixed32 {
         Fixed32::from_f64(v)
+    }
+
+    #[test]
+    fn to_f32_is_the_scaled_conversion_bit_for_bit() {
+        // The exponent-field form against `raw as f32 · 2⁻²⁴`, on the
+        // extremes, every power of two and seeded random raws.
+        let check = |raw: i32| {
+            let want = raw as f32 * (1.0 / RAW_ONE as f32);
+            let got = Fixed32::from_bits(raw).to_f32();
+            assert_eq!(got.to_bits(), want.to_bits(), "raw {raw}");
+        };
+        for raw in [0, 1, -1, 2, -2, RAW_MAX, RAW_MIN, i32::MIN, i32::MAX, RAW_ONE, -RAW_ONE, 0x00FF_FFFF, 0x0100_0001] {
+            check(raw);
+        }
+        for k in 0..31 {
+            check(1 << k);
+            check(-(1 << k));
+            check((1 << k) + 1);
+            check((1i32 << k).wrapping_sub(1));
+        }
+        let mut rng = Rng(0x0f32_70f3_2000_0001);
+        for _ in 0..1_000_000 {
+            check(rng.raw());
+            check(rng.u32() as i32);
+        }
     }
 
     /// xorshift64*, seeded: operands for the property tests.
