@@ -1269,7 +1269,8 @@ mod tests {
             let got = Fixed32::from_bits(raw).to_f32();
             assert_eq!(got.to_bits(), want.to_bits(), "raw {raw}");
         };
-        for raw in [0, 1, -1, 2, -2, RAW_MAX, RAW_MIN, i32::MIN, i32::MAX, RAW_ONE, -RAW_ONE, 0x00FF_FFFF, 0x0100_0001] {
+        for raw in [0, 1, -1, 2, -2, RAW_MAX, RAW_MIN, i32::MIN, i32::MAX, RAW_ONE, -RAW_ONE, 0x00FF_FFFF, 0x0100_0001]
+        {
             check(raw);
         }
         for k in 0..31 {
