@@ -222,9 +222,29 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
         Vec3::new(self.x - v.x, self.y - v.y, self.z - v.z)
     }
     /// Dot product of every lane with the scalar vector `v`.
+    ///
+    /// Where [`Scalar::SPARSE_PRODUCTS`] holds, the terms of `v`'s zero
+    /// components are left out (one branch each, the same for every lane):
+    /// they are exactly zero and add nothing, so the sum is the same, bit
+    /// for bit, and an axis-aligned `v` costs one product, not three.
     #[inline(always)]
     pub fn dot_splat(self, v: Vec3<S>) -> Lanes<S, W> {
-        self.x * v.x + self.y * v.y + self.z * v.z
+        if S::SPARSE_PRODUCTS {
+            // Left to right, as `x·vx + y·vy + z·vz` adds.
+            let mut sum: Option<Lanes<S, W>> = None;
+            for (l, c) in [(self.x, v.x), (self.y, v.y), (self.z, v.z)] {
+                if c != S::ZERO {
+                    let p = l * c;
+                    sum = Some(match sum {
+                        Some(s) => s + p,
+                        None => p,
+                    });
+                }
+            }
+            sum.unwrap_or_else(Lanes::zero)
+        } else {
+            self.x * v.x + self.y * v.y + self.z * v.z
+        }
     }
 }
 

@@ -1069,6 +1069,7 @@ impl Scalar for Fixed32 {
     /// limit, so values rounded on conversion stay inside the limit).
     const SCENE_FRAME: Option<f32> = Some(1.0);
     const NORMALIZE_PRESCALE: bool = true;
+    const SPARSE_PRODUCTS: bool = true;
 
     /// `2^k` for the `k` that brings `self` into `[½, 1)`, with `k` clamped to
     /// `[−8, 6]` (so `2^k` is representable and a vector of components up to

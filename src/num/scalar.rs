@@ -90,6 +90,14 @@ pub trait Scalar:
     /// squares overflow for long vectors and lose their digits for short
     /// ones. `false` for `f32`, whose exponent does that for free.
     const NORMALIZE_PRESCALE: bool = false;
+    /// Whether code may skip a product whose constant factor is zero: `true`
+    /// when `x·0 = 0` and `x + 0 = x` hold bit for bit for every `x` (no
+    /// signed zeros, no NaN) and a product costs more than a compare and a
+    /// branch. Fixed point: a product is a long integer routine on small
+    /// cores, and axis-aligned normals (floors, walls, box faces) make a
+    /// third of a frame's products zero. `false` for `f32` (`x·0` is `−0`
+    /// or NaN for some `x`).
+    const SPARSE_PRODUCTS: bool = false;
 
     /// A power of two `f` (so `v·f` is exact) that brings a magnitude
     /// `self >= 0` near 1; used only when [`Scalar::NORMALIZE_PRESCALE`]
