@@ -230,18 +230,15 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     #[inline(always)]
     pub fn dot_splat(self, v: Vec3<S>) -> Lanes<S, W> {
         if S::SPARSE_PRODUCTS {
-            // Left to right, as `x·vx + y·vy + z·vz` adds.
-            let mut sum: Option<Lanes<S, W>> = None;
-            for (l, c) in [(self.x, v.x), (self.y, v.y), (self.z, v.z)] {
-                if c != S::ZERO {
-                    let p = l * c;
-                    sum = Some(match sum {
-                        Some(s) => s + p,
-                        None => p,
-                    });
-                }
+            // Left to right, as `x·vx + y·vy + z·vz` adds (`0 + p = p`).
+            let mut sum = if v.x != S::ZERO { self.x * v.x } else { Lanes::zero() };
+            if v.y != S::ZERO {
+                sum = sum + self.y * v.y;
             }
-            sum.unwrap_or_else(Lanes::zero)
+            if v.z != S::ZERO {
+                sum = sum + self.z * v.z;
+            }
+            sum
         } else {
             self.x * v.x + self.y * v.y + self.z * v.z
         }
