@@ -1090,8 +1090,9 @@ impl Scalar for Fixed32 {
         let top = 31 - raw.leading_zeros() as i32;
         (FRAC as i32 - 1 - top).clamp(-8, 6)
     }
-    /// The product by `2^k` (`k ∈ [−8, 6]`) as a shift, bit for bit
-    /// `self * 2^k`: that product is `⌊(a·2^(FRAC+k) + 2^(FRAC−1))/2^FRAC⌋`
+    /// The product by `2^k` as a shift, bit for bit `self * 2^k` where
+    /// `2^k` is representable (`k ∈ [−24, 6]`; beyond, the same rounding and
+    /// saturation of `a·2^k`): that product is `⌊(a·2^(FRAC+k) + 2^(FRAC−1))/2^FRAC⌋`
     /// clamped, which is `a·2^k` clamped for `k >= 0` and, with `s = −k`,
     /// `⌊(a + 2^(s−1))/2^s⌋ = (a >> s) + bit s−1 of a` (the half added
     /// carries into bit `s` exactly when that bit is set) for `k < 0`.

@@ -328,7 +328,54 @@ impl<S: Scalar> Quadric<S> {
         active: Mask<W>,
     ) -> Roots<S, W> {
         let [a, b, c, d, e, f, g, h, i, j] = self.k;
-        let (o, dir) = (&ray.origin, &ray.dir);
+        let dir = &ray.dir;
+        // The linear and constant coefficients as lanes: a far origin (below)
+        // solves with its own.
+        let (mut gl, mut hl, mut il, mut jl) = (Lanes::splat(g), Lanes::splat(h), Lanes::splat(i), Lanes::splat(j));
+        let mut o = ray.origin;
+        let mut far_solve = None;
+        if S::LIMITED_RANGE {
+            // A limited-range scalar keeps this kernel's intermediates in
+            // range only for origins inside the scene's coordinate box; an
+            // unbounded plane puts hit points, and so shadow-ray origins, far
+            // outside it, where `b_q²` and `4·a_q·c_q` would both saturate
+            // and their difference report a root that is not there.
+            // Those lanes solve from the ray's point nearest the frame's
+            // centre, `p = o + t_s·d` with `t_s = −o·d`, as the sphere
+            // solves from the point nearest its centre; where even that
+            // point lies outside the box (the line misses it), in
+            // coordinates scaled by `2^k` (`k ≤ 0`, exact shifts) that bring
+            // `p` inside: with `X = 2^k·x` the quadric keeps `A..F`, its
+            // `G, H, I` scale by `2^k` and `J` by `2^2k`, and a root `t_X`
+            // is `2^k·t`. Every other lane has `t_s = 0` and `k = 0`, so it
+            // computes exactly what it would without this step.
+            let zero = Lanes::<S, W>::zero();
+            let limit = Lanes::splat(S::from_f32(S::COORDINATE_LIMIT));
+            let far = active & o.x.abs().max(o.y.abs()).max(o.z.abs()).gt(limit);
+            if far.any() {
+                let ts = Lanes::select(far, -(o.dot(*dir)), zero);
+                let p = o + dir.scale(ts);
+                let m = p.x.abs().max(p.y.abs()).max(p.z.abs());
+                let outside = far & m.gt(limit);
+                let mut k = [0i32; W];
+                let mut k2 = [0i32; W];
+                let mut back = [0i32; W];
+                for l in 0..W {
+                    if outside.get(l) {
+                        // m > limit ≥ 1: the exponent is negative.
+                        k[l] = m.0[l].normalizing_exponent().min(0);
+                        k2[l] = 2 * k[l];
+                        back[l] = -k[l];
+                    }
+                }
+                o = Vec3::new(p.x.mul_pow2(k), p.y.mul_pow2(k), p.z.mul_pow2(k));
+                gl = gl.mul_pow2(k);
+                hl = hl.mul_pow2(k);
+                il = il.mul_pow2(k);
+                jl = jl.mul_pow2(k2);
+                far_solve = Some((ts, back));
+            }
+        }
         let (ox, oy, oz) = (o.x, o.y, o.z);
         let (dx, dy, dz) = (dir.x, dir.y, dir.z);
         // Substitute x = o + t·d into xᵀMx + gᵀx + J (M symmetric, with A,
@@ -338,16 +385,14 @@ impl<S: Scalar> Quadric<S> {
         // formed once and serves both b_q and c_q: 24 products instead of
         // the 49 of the expanded sums.
         let (a2, b2, c2) = (a + a, b + b, c + c);
-        let ux = ox * a2 + oy * d + oz * e + Lanes::splat(g);
-        let uy = ox * d + oy * b2 + oz * f + Lanes::splat(h);
-        let uz = ox * e + oy * f + oz * c2 + Lanes::splat(i);
+        let ux = ox * a2 + oy * d + oz * e + gl;
+        let uy = ox * d + oy * b2 + oz * f + hl;
+        let uz = ox * e + oy * f + oz * c2 + il;
         // dᵀMd = dx(A dx + D dy + E dz) + dy(B dy + F dz) + C dz².
         let aq = dx * (dx * a + dy * d + dz * e) + dy * (dy * b + dz * f) + dz * dz * c;
         let bq = dx * ux + dy * uy + dz * uz;
         let half = [-1; W];
-        let cq = (ox * (ux + Lanes::splat(g)) + oy * (uy + Lanes::splat(h)) + oz * (uz + Lanes::splat(i)))
-            .mul_pow2(half)
-            + Lanes::splat(j);
+        let cq = (ox * (ux + gl) + oy * (uy + hl) + oz * (uz + il)).mul_pow2(half) + jl;
         // Compute the discriminant; with a_q = 0 the equation is linear.
         let four = S::TWO + S::TWO;
         let disc = bq * bq - aq * cq * four;
@@ -370,6 +415,11 @@ impl<S: Scalar> Quadric<S> {
         // q = 0 only when b = 0 and Δ = 0: a double root at q/a = 0 ... then c = 0 too.
         let mut ok1 = quad & q_ok;
         let mut t1 = r1;
+        if let Some((ts, back)) = far_solve {
+            // Back to the ray's own origin and scale: t = t_s + 2^−k·t_X.
+            t0 = ts + t0.mul_pow2(back);
+            t1 = ts + t1.mul_pow2(back);
+        }
         if let Some((lo, hi)) = self.clip {
             // A root outside the clip box does not exist; the ray goes on to
             // the other root.
@@ -430,9 +480,12 @@ fn inside_box<S: Scalar, const W: usize>(p: crate::geom::vec3::Vec3xW<S, W>, lo:
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
     use crate::geom::primitives::test_util::*;
     use crate::geom::primitives::Shape;
+    use crate::geom::ray::RayPacket;
+    use crate::num::fixed32::Fixed32;
 
     fn close(a: &[f32], b: &[f32]) -> bool {
         a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-4)
@@ -512,6 +565,97 @@ mod tests {
         for p in ellipsoid_points(c, r, axes) {
             let [x, y, z] = sim.point::<f32, f32>(p).to_f32();
             assert!(x >= lo[0] && y >= lo[1] && z >= lo[2] && x <= hi[0] && y <= hi[1] && z <= hi[2]);
+        }
+    }
+
+    /// The demo's small ellipsoid in Q8.24, and the crossings in
+    /// `(0, t_max)` that `roots` reports for one ray at widths 1 and 4 (the
+    /// ray in lane 2 of 4, among rays from the frame's centre), checked to
+    /// agree.
+    fn far_ray_hits(o: [f32; 3], d: [f32; 3], t_max: f32) -> (Quadric<Fixed32>, std::vec::Vec<f32>) {
+        use crate::geom::uniform_scale::Similarity;
+        let q = Quadric::ellipsoid(Vec3::new(0.24f32, 0.66, -0.23), Vec3::new(0.1, 0.06, 0.07)).unwrap();
+        let fq: Quadric<Fixed32> = q.similar(&Similarity::IDENTITY);
+        let d = Vec3::new(d[0], d[1], d[2]).normalize_or_zero();
+        let o = Vec3::<Fixed32>::from_f32(o[0], o[1], o[2]);
+        let d = Vec3::<Fixed32>::from_f32(d.x, d.y, d.z);
+        let tmax = Fixed32::from_f32(t_max);
+        let one = {
+            let (ray, active) = RayPacket::<Fixed32, 1>::new(o.splat(), d.splat());
+            let r = fq.roots(&ray, Lanes::zero(), Lanes::splat(tmax), active);
+            let mut out = std::vec::Vec::new();
+            if r.hit0.get(0) {
+                out.push(r.t0.0[0].to_f32());
+            }
+            if r.hit1.get(0) {
+                out.push(r.t1.0[0].to_f32());
+            }
+            out
+        };
+        let (mut org, mut dir) = (Vec3::<Fixed32>::ZERO.splat::<4>(), Vec3::<Fixed32>::ZERO.splat::<4>());
+        for l in 0..4 {
+            let (oo, dd) = if l == 2 { (o, d) } else { (Vec3::ZERO, Vec3::from_f32(0.6, 0.0, 0.8)) };
+            org.set_lane(l, oo);
+            dir.set_lane(l, dd);
+        }
+        let (ray, active) = RayPacket::<Fixed32, 4>::new(org, dir);
+        let r = fq.roots(&ray, Lanes::zero(), Lanes::splat(tmax), active);
+        let mut four = std::vec::Vec::new();
+        if r.hit0.get(2) {
+            four.push(r.t0.0[2].to_f32());
+        }
+        if r.hit1.get(2) {
+            four.push(r.t1.0[2].to_f32());
+        }
+        assert_eq!(one, four, "width 1 against width 4");
+        (fq, one)
+    }
+
+    #[test]
+    fn q8_24_far_origins_report_no_false_crossings() {
+        // A shadow ray from a far floor point of the demo (where b_q² and
+        // 4·a_q·c_q both saturated and a "double root" was reported), a ray
+        // whose line passes outside the scene's box, and one that passes
+        // beside the ellipsoid: no crossing.
+        let (_, h) = far_ray_hits([-26.868412, 52.577297, -0.29464138], [0.44414008, -0.89572763, 0.020289302], 11.3);
+        assert!(h.is_empty(), "{h:?}");
+        let (_, h) = far_ray_hits([-60.0, 50.0, 0.0], [1.0, 0.0, 0.0], 120.0);
+        assert!(h.is_empty(), "{h:?}");
+        let (_, h) = far_ray_hits([-40.0, 0.76, -0.23], [1.0, 0.0, 0.0], 120.0);
+        assert!(h.is_empty(), "{h:?}");
+    }
+
+    #[test]
+    fn q8_24_far_origins_find_the_true_crossings() {
+        // Rays from far away (outside the scene's box) aimed through the
+        // ellipsoid, from the side, from above and diagonally: both
+        // crossings, where the exact solution puts them.
+        for (o, d) in [
+            ([-40.0f32, 0.66, -0.23], [1.0f32, 0.0, 0.0]),
+            ([0.24, 40.0, -0.23], [0.0, -1.0, 0.0]),
+            ([30.24, 30.66, -0.23], [-1.0, -1.0, 0.0]),
+            ([-20.0, 0.68, -0.2], [1.0, 0.0, 0.0]),
+        ] {
+            let (q, h) = far_ray_hits(o, d, 120.0);
+            // The exact crossings with the Q8.24 coefficients, in f64.
+            let k = q.coefficients().map(|v| v.to_f32() as f64);
+            let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let (o, d) = (o.map(|v| v as f64), d.map(|v| (v / n) as f64));
+            let m = [[k[0], k[3] / 2.0, k[4] / 2.0], [k[3] / 2.0, k[1], k[5] / 2.0], [k[4] / 2.0, k[5] / 2.0, k[2]]];
+            let mv =
+                |v: [f64; 3]| core::array::from_fn::<f64, 3, _>(|r| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2]);
+            let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+            let g = [k[6], k[7], k[8]];
+            let aq = dot(d, mv(d));
+            let bq = 2.0 * dot(d, mv(o)) + dot(g, d);
+            let cq = dot(o, mv(o)) + dot(g, o) + k[9];
+            let disc = bq * bq - 4.0 * aq * cq;
+            assert!(disc > 0.0);
+            let want = [(-bq - disc.sqrt()) / (2.0 * aq), (-bq + disc.sqrt()) / (2.0 * aq)];
+            assert_eq!(h.len(), 2, "{o:?} {d:?}: {h:?}, want {want:?}");
+            for (t, w) in h.iter().zip(want) {
+                assert!((*t as f64 - w).abs() < 2e-3, "{o:?} {d:?}: {h:?}, want {want:?}");
+            }
         }
     }
 
