@@ -950,6 +950,40 @@ fn with_stdout_closed_after(args: &[&str], lines: usize) -> (Option<i32>, String
 }
 
 #[test]
+fn a_closed_or_full_standard_error_does_not_panic() {
+    // `raypack render … 2>&1 | head -c 0` and `2>/dev/full`: the summary (or
+    // the error line) is lost, and the exit status is the command's own:
+    // 0 for a render, 1 for a bad scene; never a panic (101).
+    let out = std::env::temp_dir().join(format!("raypack-closed-stderr-{}.ppm", std::process::id()));
+    let balls = scene("balls-1.nff");
+    let render = ["render", &balls, "-o", out.to_str().unwrap(), "--width", "256", "--height", "256", "-j", "1"];
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raypack"))
+        .args(render)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run raypack");
+    drop(child.stderr.take());
+    assert_eq!(child.wait().unwrap().code(), Some(0), "render with a closed stderr");
+    assert!(std::fs::metadata(&out).map(|m| m.len() > 0).unwrap_or(false), "the image was written");
+    let _ = std::fs::remove_file(&out);
+    if Path::new("/dev/full").exists() {
+        let missing = ["render", "no-such-scene.nff", "-o", out.to_str().unwrap()];
+        for (args, code) in [(&render[..], 0), (&missing[..], 1)] {
+            let full = std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+            let status = Command::new(env!("CARGO_BIN_EXE_raypack"))
+                .args(args)
+                .stdout(std::process::Stdio::null())
+                .stderr(full)
+                .status()
+                .expect("run raypack");
+            assert_eq!(status.code(), Some(code), "{args:?} with stderr on /dev/full");
+        }
+        let _ = std::fs::remove_file(&out);
+    }
+}
+
+#[test]
 fn bench_and_info_end_quietly_on_a_closed_pipe() {
     // `raypack bench … | head -1`, `raypack info … | head -1`, and a reader
     // that closes before the first line: exit 0, nothing on stderr (no

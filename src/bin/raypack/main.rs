@@ -6,6 +6,16 @@
 //! (one line on stderr, the reader's message with line and column); 2 bad
 //! command line.
 
+/// `eprintln!` that never panics: with standard error closed or full
+/// (`2>&1 | head`, `2>/dev/full`) the message is lost, as with other Unix
+/// tools, and the command goes on to its own exit status.
+macro_rules! note {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod bench;
 mod info;
 mod output;
@@ -376,7 +386,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure(msg)) => {
-            eprintln!("raypack: error: {msg}");
+            note!("raypack: error: {msg}");
             ExitCode::FAILURE
         }
     }

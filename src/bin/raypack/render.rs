@@ -50,7 +50,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             Some(r) => format!(" (region {},{},{},{} of {}x{})", r.x, r.y, r.w, r.h, img.full_size.0, img.full_size.1),
             None => String::new(),
         };
-        eprintln!(
+        note!(
             "raypack: {}: {}x{}{part}, {:.3} s on {} thread{}, packet {}, isa {}; rays: {} primary, {} shadow, {} reflected, {} refracted; {:.2} M rays/s",
             out_name,
             img.width,
@@ -69,13 +69,13 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
         let pixels = (img.width as u64 * img.height as u64).max(1) as f64;
         match options.sampling {
             Sampling::Centre => {}
-            Sampling::Grid(_) => eprintln!(
+            Sampling::Grid(_) => note!(
                 "raypack: anti-aliasing: {n}x{n} samples per pixel: {:.2} primary rays per pixel (1 without), {:.2} rays per pixel in all",
                 s.primary as f64 / pixels,
                 s.total() as f64 / pixels,
                 n = options.sampling.grid()
             ),
-            Sampling::Adaptive { threshold, .. } => eprintln!(
+            Sampling::Adaptive { threshold, .. } => note!(
                 "raypack: anti-aliasing: adaptive {n}x{n}, threshold {:.3} (a difference of {threshold} in the sum of the three 8-bit channels): {:.2} primary rays per pixel (1 without), {:.2} rays per pixel in all",
                 threshold as f64 / 255.0,
                 s.primary as f64 / pixels,
@@ -84,11 +84,15 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             ),
         }
         let l = s.lanes_per_packet();
-        eprintln!(
+        note!(
             "raypack: active lanes per packet of {}: {:.2} primary, {:.2} shadow, {:.2} reflected, {:.2} refracted",
-            img.packet, l[0], l[1], l[2], l[3]
+            img.packet,
+            l[0],
+            l[1],
+            l[2],
+            l[3]
         );
-        eprintln!(
+        note!(
             "raypack: scene: {} primitives read in {:.3} s; {:.1} MB for the scene and its tree ({:.1} bytes per primitive)",
             info.nff.counts.primitives(),
             info.parse.as_secs_f64(),
@@ -96,7 +100,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
             info.bytes as f64 / info.nff.counts.primitives().max(1) as f64
         );
         match info.bvh {
-            Some((b, built)) => eprintln!(
+            Some((b, built)) => note!(
                 "raypack: bvh: {} nodes ({} leaves, depth {}), {} primitives outside the tree, built in {:.2} ms",
                 b.nodes,
                 b.leaves,
@@ -104,7 +108,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Failure> {
                 b.unbounded,
                 built.as_secs_f64() * 1e3
             ),
-            None => eprintln!("raypack: no acceleration structure (--accel none): every ray tests every primitive"),
+            None => note!("raypack: no acceleration structure (--accel none): every ray tests every primitive"),
         }
     }
     Ok(())
@@ -126,7 +130,7 @@ fn render_hash(text: &str, o: &image::Options, full: (u32, u32)) -> String {
 /// Warns about zero-area polygons unless quiet.
 pub fn warn_degenerate(args_scene: &std::path::Path, info: &image::SceneInfo, quiet: bool) {
     if info.degenerate > 0 && !quiet {
-        eprintln!(
+        note!(
             "raypack: warning: {}: {} zero-area polygon{} (kept so primitive ids follow the file, never hit)",
             crate::scene_name(args_scene),
             info.degenerate,

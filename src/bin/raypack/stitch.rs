@@ -103,7 +103,7 @@ pub fn run(args: &StitchArgs) -> Result<(), Failure> {
     let pixels: Vec<[u8; 3]> = image.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
     sink.finish(fw, fh, &pixels, None)?;
     if !args.quiet {
-        eprintln!("raypack: {name}: {fw}x{fh} from {} parts", args.parts.len());
+        note!("raypack: {name}: {fw}x{fh} from {} parts", args.parts.len());
     }
     Ok(())
 }
