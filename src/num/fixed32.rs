@@ -1131,6 +1131,18 @@ impl Scalar for Fixed32 {
         if den == 0 {
             return Self::MAX;
         }
+        // round(num·2^FRAC/den) = ⌊(num·2^FRAC + ⌊den/2⌋)/den⌋. Image
+        // coordinates (num, den < 2¹⁶) take two 32-bit divisions, a long
+        // division in base 2¹⁶: a 64-bit one is a chain of library calls
+        // on 32-bit cores without a divide instruction.
+        if num < 1 << 16 && den < 1 << 16 {
+            let a = num << (FRAC - 16); // < 2²⁴
+            let (q1, r1) = (a / den, a % den);
+            // r1 < den < 2¹⁶: r1·2¹⁶ + ⌊den/2⌋ < 2³².
+            let q0 = ((r1 << 16) + den / 2) / den;
+            let q = ((q1 as u64) << 16) + q0 as u64;
+            return Fixed32(q.min(RAW_MAX as u64) as i32);
+        }
         let (n, d) = ((num as u64) << FRAC, den as u64);
         let q = (n + d / 2) / d;
         Fixed32(q.min(RAW_MAX as u64) as i32)
@@ -1260,6 +1272,30 @@ mod tests {
 
     fn fx(v: f64) -> Fixed32 {
         Fixed32::from_f64(v)
+    }
+
+    #[test]
+    fn ratio_by_two_short_divisions_is_the_rounded_quotient() {
+        // Against the 64-bit formula: every numerator for small
+        // denominators, then image-sized ones, and the 2¹⁶ boundary.
+        let want = |num: u32, den: u32| {
+            let (n, d) = ((num as u64) << FRAC, den as u64);
+            ((n + d / 2) / d).min(RAW_MAX as u64) as i32
+        };
+        for den in 1..=300u32 {
+            for num in 0..=2 * den + 3 {
+                assert_eq!(Fixed32::ratio(num, den).to_bits(), want(num, den), "{num}/{den}");
+            }
+        }
+        let mut rng = Rng(0x5eed_0f_7a71_0001);
+        for _ in 0..200_000 {
+            let den = 1 + rng.u32() % 0xFFFF;
+            let num = rng.u32() % (1 << 16);
+            assert_eq!(Fixed32::ratio(num, den).to_bits(), want(num, den), "{num}/{den}");
+        }
+        for (num, den) in [(0xFFFF, 1), (0xFFFF, 0xFFFF), (0x1_0000, 3), (5, 0x1_0000), (u32::MAX, 7)] {
+            assert_eq!(Fixed32::ratio(num, den).to_bits(), want(num, den), "{num}/{den}");
+        }
     }
 
     #[test]

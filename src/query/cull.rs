@@ -466,16 +466,19 @@ impl<S: Scalar> ShadowCull<S> {
                 m |= 1 << k;
                 continue;
             }
-            // The box of directions first (comparisons only), then the cone
-            // for the lanes inside it.
+            // The box of directions first (comparisons only, one axis at a
+            // time: most occluders are left behind by the first), then the
+            // cone for the lanes inside it.
             let (lo, hi) = (o.dlo, o.dhi);
-            let inside = lit
-                & dir.x.ge(Lanes::splat(lo.x))
-                & dir.x.le(Lanes::splat(hi.x))
-                & dir.y.ge(Lanes::splat(lo.y))
-                & dir.y.le(Lanes::splat(hi.y))
-                & dir.z.ge(Lanes::splat(lo.z))
-                & dir.z.le(Lanes::splat(hi.z));
+            let mut inside = lit & dir.x.ge(Lanes::splat(lo.x)) & dir.x.le(Lanes::splat(hi.x));
+            if inside.none() {
+                continue;
+            }
+            inside &= dir.y.ge(Lanes::splat(lo.y)) & dir.y.le(Lanes::splat(hi.y));
+            if inside.none() {
+                continue;
+            }
+            inside &= dir.z.ge(Lanes::splat(lo.z)) & dir.z.le(Lanes::splat(hi.z));
             if inside.none() {
                 continue;
             }
