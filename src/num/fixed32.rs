@@ -1287,7 +1287,7 @@ mod tests {
                 assert_eq!(Fixed32::ratio(num, den).to_bits(), want(num, den), "{num}/{den}");
             }
         }
-        let mut rng = Rng(0x5eed_0f_7a71_0001);
+        let mut rng = Rng(0x5eed_0f7a_7100_0001);
         for _ in 0..200_000 {
             let den = 1 + rng.u32() % 0xFFFF;
             let num = rng.u32() % (1 << 16);
