@@ -134,13 +134,13 @@ impl Dither {
     #[inline]
     pub fn rank(self, x: u32, y: u32) -> (u32, u32) {
         match self {
-            Dither::None => (0, 1),
-            Dither::Bayer4 => (BAYER4[(y & 3) as usize][(x & 3) as usize] as u32, 16),
-            Dither::Bayer8 => (BAYER8[(y & 7) as usize][(x & 7) as usize] as u32, 64),
+            Dither::None => (0, 1 << self.cells_log2()),
+            Dither::Bayer4 => (BAYER4[(y & 3) as usize][(x & 3) as usize] as u32, 1 << self.cells_log2()),
+            Dither::Bayer8 => (BAYER8[(y & 7) as usize][(x & 7) as usize] as u32, 1 << self.cells_log2()),
         }
     }
     /// `log₂` of the number of cells of [`Dither::rank`] (every matrix has a
-    /// power-of-two number of cells).
+    /// power-of-two number of cells): 0, 4 (4×4) or 6 (8×8).
     #[inline]
     pub fn cells_log2(self) -> u32 {
         match self {

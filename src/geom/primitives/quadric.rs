@@ -357,23 +357,15 @@ impl<S: Scalar> Quadric<S> {
                 let p = o + dir.scale(ts);
                 let m = p.x.abs().max(p.y.abs()).max(p.z.abs());
                 let outside = far & m.gt(limit);
-                let mut k = [0i32; W];
-                let mut k2 = [0i32; W];
-                let mut back = [0i32; W];
-                for l in 0..W {
-                    if outside.get(l) {
-                        // m > limit ≥ 1: the exponent is negative.
-                        k[l] = m.0[l].normalizing_exponent().min(0);
-                        k2[l] = 2 * k[l];
-                        back[l] = -k[l];
-                    }
-                }
+                // m > limit ≥ 1 where outside: the exponent is negative.
+                let k: [i32; W] =
+                    core::array::from_fn(|l| if outside.get(l) { m.0[l].normalizing_exponent().min(0) } else { 0 });
                 o = Vec3::new(p.x.mul_pow2(k), p.y.mul_pow2(k), p.z.mul_pow2(k));
                 gl = gl.mul_pow2(k);
                 hl = hl.mul_pow2(k);
                 il = il.mul_pow2(k);
-                jl = jl.mul_pow2(k2);
-                far_solve = Some((ts, back));
+                jl = jl.mul_pow2(k.map(|k| 2 * k));
+                far_solve = Some((ts, k));
             }
         }
         let (ox, oy, oz) = (o.x, o.y, o.z);
@@ -415,8 +407,9 @@ impl<S: Scalar> Quadric<S> {
         // q = 0 only when b = 0 and Δ = 0: a double root at q/a = 0 ... then c = 0 too.
         let mut ok1 = quad & q_ok;
         let mut t1 = r1;
-        if let Some((ts, back)) = far_solve {
+        if let Some((ts, k)) = far_solve {
             // Back to the ray's own origin and scale: t = t_s + 2^−k·t_X.
+            let back = k.map(|k| -k);
             t0 = ts + t0.mul_pow2(back);
             t1 = ts + t1.mul_pow2(back);
         }
@@ -484,7 +477,6 @@ mod tests {
     use super::*;
     use crate::geom::primitives::test_util::*;
     use crate::geom::primitives::Shape;
-    use crate::geom::ray::RayPacket;
     use crate::num::fixed32::Fixed32;
 
     fn close(a: &[f32], b: &[f32]) -> bool {
@@ -580,17 +572,17 @@ mod tests {
         let o = Vec3::<Fixed32>::from_f32(o[0], o[1], o[2]);
         let d = Vec3::<Fixed32>::from_f32(d.x, d.y, d.z);
         let tmax = Fixed32::from_f32(t_max);
+        // The crossings reported in `lane`, nearest first.
+        fn crossings<const W: usize>(r: &Roots<Fixed32, W>, lane: usize) -> std::vec::Vec<f32> {
+            [(r.hit0, r.t0), (r.hit1, r.t1)]
+                .iter()
+                .filter(|(hit, _)| hit.get(lane))
+                .map(|(_, t)| t.0[lane].to_f32())
+                .collect()
+        }
         let one = {
             let (ray, active) = RayPacket::<Fixed32, 1>::new(o.splat(), d.splat());
-            let r = fq.roots(&ray, Lanes::zero(), Lanes::splat(tmax), active);
-            let mut out = std::vec::Vec::new();
-            if r.hit0.get(0) {
-                out.push(r.t0.0[0].to_f32());
-            }
-            if r.hit1.get(0) {
-                out.push(r.t1.0[0].to_f32());
-            }
-            out
+            crossings(&fq.roots(&ray, Lanes::zero(), Lanes::splat(tmax), active), 0)
         };
         let (mut org, mut dir) = (Vec3::<Fixed32>::ZERO.splat::<4>(), Vec3::<Fixed32>::ZERO.splat::<4>());
         for l in 0..4 {
@@ -599,14 +591,7 @@ mod tests {
             dir.set_lane(l, dd);
         }
         let (ray, active) = RayPacket::<Fixed32, 4>::new(org, dir);
-        let r = fq.roots(&ray, Lanes::zero(), Lanes::splat(tmax), active);
-        let mut four = std::vec::Vec::new();
-        if r.hit0.get(2) {
-            four.push(r.t0.0[2].to_f32());
-        }
-        if r.hit1.get(2) {
-            four.push(r.t1.0[2].to_f32());
-        }
+        let four = crossings(&fq.roots(&ray, Lanes::zero(), Lanes::splat(tmax), active), 2);
         assert_eq!(one, four, "width 1 against width 4");
         (fq, one)
     }
