@@ -167,15 +167,16 @@ pub(crate) fn transmittance_among<S: Scalar, const W: usize>(
     trans
 }
 
-/// [`Shape::roots`] for the query loops. On RV32 in fixed point, where
-/// every product is inline code, the kernels of oriented boxes, quadrics
-/// and cones are one out-of-line copy per scalar and width
-/// ([`roots_apart`]) shared by both loops, not one inlined into each: the
-/// `riscv-virt` image is 15 KB smaller and its `fixed32` frame no slower
-/// (`scripts/firmware.sh`). Elsewhere every kernel stays where it was: in
-/// floating point the soft-float kernels gain from constants at the call
-/// site, on the host and the Cortex-M4/M55 speed comes first, and on
-/// Armv6-M [`Shape::roots`] is out of line already.
+/// [`Shape::roots`] for the query loops. On RV32, in fixed point and in
+/// soft float, the kernels of oriented boxes, quadrics and cones are one
+/// out-of-line copy per scalar and width ([`roots_apart`]) shared by both
+/// loops, not one inlined into each: every fixed-point product is inline
+/// code and every soft-float operation a call, so the copies are large.
+/// The `riscv-virt` image is about 17 KB smaller for it and neither frame
+/// slower (`scripts/firmware.sh`: with the `f32` kernels out of line too,
+/// `f32` retires 574.8 M instructions against 576.2 M). Elsewhere every kernel stays where it was: on the host and the
+/// Cortex-M4/M55 speed comes first, and on Armv6-M [`Shape::roots`] is out
+/// of line already.
 #[inline(always)]
 fn roots<S: Scalar, const W: usize>(
     shape: &Shape<S>,
@@ -185,8 +186,12 @@ fn roots<S: Scalar, const W: usize>(
     t_max: Lanes<S, W>,
     active: Mask<W>,
 ) -> Roots<S, W> {
-    const SHARED: bool = cfg!(target_arch = "riscv32");
-    if SHARED && S::LIMITED_RANGE && matches!(shape, Shape::OrientedBox(_) | Shape::Quadric(_) | Shape::Cone(_)) {
+    const RV32: bool = cfg!(target_arch = "riscv32");
+    const SOFT_FLOAT: bool = cfg!(not(target_feature = "f"));
+    if RV32
+        && (S::LIMITED_RANGE || SOFT_FLOAT)
+        && matches!(shape, Shape::OrientedBox(_) | Shape::Quadric(_) | Shape::Cone(_))
+    {
         return roots_apart(shape, pool, ray, t_min, t_max, active);
     }
     shape.roots(pool, ray, t_min, t_max, active)
