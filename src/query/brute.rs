@@ -4,7 +4,7 @@
 //! no tree code in the image).
 
 use super::accelerator::{Accelerator, Hit};
-use super::cull::{Candidates, ALL};
+use super::cull::{candidate_indices, Candidates, ALL};
 use crate::geom::primitives::Shape;
 use crate::geom::ray::{RayPacket, Roots};
 use crate::geom::vec3::Vec3;
@@ -86,14 +86,9 @@ pub(crate) fn closest_hit<S: Scalar, const W: usize>(
     if active.any() {
         let prims = scene.primitives();
         let verts = scene.vertices();
-        // (A `Range` index rather than `enumerate`, whose counter has an
-        // overflow check in debug builds: the render path has no panic path.)
-        for (k, p) in (0..prims.len()).zip(prims.iter()) {
-            // Culled: no active ray can cross it (`checked_shr`: from 32
-            // on, every primitive is a candidate).
-            if candidates.checked_shr(k as u32).is_some_and(|c| c & 1 == 0) {
-                continue;
-            }
+        // Only the candidates: the others no active ray can cross.
+        for k in candidate_indices(candidates, prims.len()) {
+            let Some(p) = prims.get(k) else { break };
             // Only roots strictly nearer than the best so far come back, so a
             // later primitive at the same distance never replaces an earlier one.
             let r = roots(&p.shape, verts, ray, t_min, best_t, active);
@@ -141,14 +136,12 @@ pub(crate) fn transmittance_among<S: Scalar, const W: usize>(
     let mut live = active;
     let verts = scene.vertices();
     let prims = scene.primitives();
-    for (k, p) in (0..prims.len()).zip(prims.iter()) {
+    // Only the candidates: the others no active ray can reach.
+    for k in candidate_indices(candidates, prims.len()) {
         if live.none() {
             break;
         }
-        // Culled: no active ray can reach it.
-        if candidates.checked_shr(k as u32).is_some_and(|c| c & 1 == 0) {
-            continue;
-        }
+        let Some(p) = prims.get(k) else { break };
         let r = roots(&p.shape, verts, ray, t_min, t_max, live);
         if r.hit0.none() {
             continue;

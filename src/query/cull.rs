@@ -59,6 +59,45 @@ pub type Candidates = u32;
 /// Every primitive a candidate.
 pub const ALL: Candidates = u32::MAX;
 
+/// The indices of the primitives to test among `len`, in increasing
+/// order: the set bits of `candidates` below `len`, then every index from
+/// 32 on (see [`Candidates`]).
+///
+/// Why an iterator over the bits: a packet's list is short (2.8 of the
+/// demo's 11 primitives on average), and a loop over every index that
+/// skips the clear bits costs a test and a shift for each.
+#[inline(always)]
+pub(crate) fn candidate_indices(candidates: Candidates, len: usize) -> CandidateIndices {
+    let bits = if len >= 32 { candidates } else { candidates & ((1u32 << len) - 1) };
+    CandidateIndices { bits, next: 32, len }
+}
+
+/// See [`candidate_indices`].
+pub(crate) struct CandidateIndices {
+    bits: u32,
+    next: usize,
+    len: usize,
+}
+
+impl Iterator for CandidateIndices {
+    type Item = usize;
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.bits != 0 {
+            let k = self.bits.trailing_zeros() as usize;
+            // Clear the lowest set bit.
+            self.bits &= self.bits.wrapping_sub(1);
+            return Some(k);
+        }
+        if self.next < self.len {
+            let k = self.next;
+            self.next += 1;
+            return Some(k);
+        }
+        None
+    }
+}
+
 /// Most primitives a [`ScreenCull`] holds (one bit each in [`Candidates`]).
 pub const CULL_CAPACITY: usize = 32;
 
@@ -571,6 +610,27 @@ fn direction_box(l: [f32; 3], lo: [f32; 3], hi: [f32; 3], grow: f32) -> Option<(
 mod tests {
     use super::*;
     use crate::scene::{Material, Scene};
+
+    #[test]
+    fn candidate_indices_are_the_set_bits_then_every_index_from_32() {
+        // Against the plain loop over every index, on seeded masks and
+        // lengths around 32.
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        for len in [0usize, 1, 2, 5, 11, 31, 32, 33, 40] {
+            for _ in 0..200 {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                let c = (x >> 16) as u32;
+                let want: std::vec::Vec<usize> =
+                    (0..len).filter(|&k| c.checked_shr(k as u32).is_none_or(|b| b & 1 == 1)).collect();
+                let got: std::vec::Vec<usize> = candidate_indices(c, len).collect();
+                assert_eq!(got, want, "{c:#x} of {len}");
+            }
+        }
+        assert_eq!(candidate_indices(ALL, 3).collect::<std::vec::Vec<_>>(), [0, 1, 2]);
+        assert_eq!(candidate_indices(0, 34).collect::<std::vec::Vec<_>>(), [32, 33]);
+    }
 
     type Small = Scene<f32, 8, 8, 2, 2>;
 
