@@ -15,7 +15,7 @@ use crate::geom::ray::RayPacket;
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::Vec3;
 use crate::num::lanes::{Lanes, Mask};
-use crate::num::scalar::Scalar;
+use crate::num::scalar::{Divisor, Scalar};
 
 /// Why a camera could not be built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,6 +73,9 @@ pub struct Camera<S> {
     up: Vec3<S>,
     width: u32,
     height: u32,
+    /// `width` and `height` as divisors of pixel coordinates.
+    width_div: Divisor,
+    height_div: Divisor,
     /// `tan(vfov/2)·W/H`.
     sx_scale: S,
     /// `tan(vfov/2)`.
@@ -128,6 +131,8 @@ impl<S: Scalar> Camera<S> {
             up,
             width,
             height,
+            width_div: Divisor::new(width),
+            height_div: Divisor::new(height),
             sx_scale: tan_half * aspect,
             sy_scale: tan_half,
             units: 1.0,
@@ -269,12 +274,18 @@ impl<S: Scalar> Camera<S> {
         }
         // The quotients in a loop of their own, one per lane with one
         // divisor: for `f32` a packed conversion and a packed division.
-        let (ud, vd) = (n * self.width, n * self.height);
+        // (Without supersampling, the camera's own divisors, whose
+        // reciprocals it keeps; with, plain divisions.)
+        let (ud, vd) = if n == 1 {
+            (self.width_div, self.height_div)
+        } else {
+            (Divisor::plain(n * self.width), Divisor::plain(n * self.height))
+        };
         let mut u = Lanes::<S, W>::zero();
         let mut v = Lanes::<S, W>::zero();
         for l in 0..W {
-            u.0[l] = S::ratio(un[l], ud);
-            v.0[l] = S::ratio(vn[l], vd);
+            u.0[l] = S::ratio_by(un[l], &ud);
+            v.0[l] = S::ratio_by(vn[l], &vd);
         }
         let one = Lanes::splat(S::ONE);
         let sx = (u - one) * self.sx_scale;

@@ -117,7 +117,7 @@
 //! a reachable panic on thumbv6m, thumbv7em and riscv32imac, also with
 //! overflow checks on (checked with a `panic-never`-style link).
 
-use crate::num::scalar::Scalar;
+use crate::num::scalar::{Divisor, Scalar};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 /// Number of fractional bits: the one constant that defines the format
@@ -1148,6 +1148,18 @@ impl Scalar for Fixed32 {
         Fixed32(q.min(RAW_MAX as u64) as i32)
     }
 
+    /// [`Fixed32::ratio`] from the divisor's reciprocal where it has one
+    /// (no division; see [`Divisor`]), the same bits.
+    #[inline(never)]
+    fn ratio_by(num: u32, den: &Divisor) -> Self {
+        const _: () = assert!(FRAC == 24);
+        match den.rounded_q24(num, |a, b| (wmul(a, b) >> 32) as u32) {
+            // FRAC = 24: the quotient is the raw value, below 2³¹.
+            Some(q) => Fixed32(q as i32),
+            None => Self::ratio(num, den.get()),
+        }
+    }
+
     #[inline]
     fn from_f32(v: f32) -> Self {
         Fixed32(raw_from_f32(v))
@@ -1295,6 +1307,50 @@ mod tests {
         }
         for (num, den) in [(0xFFFF, 1), (0xFFFF, 0xFFFF), (0x1_0000, 3), (5, 0x1_0000), (u32::MAX, 7)] {
             assert_eq!(Fixed32::ratio(num, den).to_bits(), want(num, den), "{num}/{den}");
+        }
+    }
+
+    #[test]
+    fn ratio_by_a_divisor_is_ratio() {
+        // Every numerator up to 2·den + 3 for small divisors, image-sized
+        // ones, saturating quotients, the 2¹⁶ limits, and the wide product
+        // of every target (`wmul` here, the limb product of Armv6-M).
+        let check = |num: u32, den: u32| {
+            let want = Fixed32::ratio(num, den).to_bits();
+            assert_eq!(Fixed32::ratio_by(num, &Divisor::new(den)).to_bits(), want, "{num}/{den}");
+            assert_eq!(Fixed32::ratio_by(num, &Divisor::plain(den)).to_bits(), want, "plain {num}/{den}");
+            let limbs = Divisor::new(den).rounded_q24(num, |a, b| (wmul_limbs(a, b) >> 32) as u32);
+            if let Some(q) = limbs {
+                assert_eq!(q as i32, want, "limbs {num}/{den}");
+            }
+        };
+        for den in 0..=300u32 {
+            for num in 0..=2 * den + 3 {
+                check(num, den);
+            }
+            check(den << 7, den);
+            check((den << 7).saturating_sub(1), den);
+        }
+        let mut rng = Rng(0x5eed_0f7a_7100_0003);
+        for k in 0..300_000u32 {
+            let den = if k % 2 == 0 { 1 + rng.u32() % 0xFFFF } else { 1 + rng.u32() % 4096 };
+            let num = match k % 3 {
+                0 => rng.u32() % (2 * den + 1),
+                1 => rng.u32() % (1 << 16),
+                _ => rng.u32() >> (rng.u32() % 32),
+            };
+            check(num, den);
+        }
+        for (num, den) in [
+            (0xFFFF, 0xFFFF),
+            (0xFFFF, 1),
+            (0xFFFF, 0x1_0000),
+            (0x1_0000, 0xFFFF),
+            (1, 0xFFFF),
+            (0xFFFF, 0xFFFE),
+            (0xFFFE, 0xFFFF),
+        ] {
+            check(num, den);
         }
     }
 

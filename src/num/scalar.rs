@@ -141,6 +141,15 @@ pub trait Scalar:
         Self::from_i32(num as i32) / Self::from_i32(den as i32)
     }
 
+    /// [`Scalar::ratio`]`(num, den.get())`, for a divisor used again and
+    /// again (the camera's image width and height). The default is that
+    /// call; a type whose division is a long routine uses the reciprocal
+    /// the [`Divisor`] carries. The same bits either way.
+    #[inline(always)]
+    fn ratio_by(num: u32, den: &Divisor) -> Self {
+        Self::ratio(num, den.get())
+    }
+
     /// Converts from `f32` (set-up time only: scene input, camera angles).
     /// Out-of-range values saturate; NaN becomes zero.
     fn from_f32(v: f32) -> Self;
@@ -219,6 +228,68 @@ pub trait Scalar:
         } else {
             i as u8
         }
+    }
+}
+
+/// A divisor for [`Scalar::ratio_by`]: `den` with what a quotient
+/// `round(num·2^k/den)` needs to be formed without a division instruction
+/// (a library loop of about 130 instructions on the Cortex-M0), worked out
+/// once (two divisions) for many quotients.
+///
+/// With `A = ⌊2²⁴/den⌋`, `B = 2²⁴ mod den` and the reciprocal
+/// `m = ⌊(2³² − 1)/den⌋` (kept for `0 < den < 2¹⁶`),
+/// `num·2²⁴ + h = num·A·den + (num·B + h)`, so the quotient is
+/// `num·A + ⌊(num·B + h)/den⌋`, and the second quotient comes from
+/// `⌊(num·B + h)·m/2³²⌋`, at most 2 below it, raised by the exact remainder.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Divisor {
+    den: u32,
+    whole: u32,
+    rest: u32,
+    recip: u32,
+}
+
+impl Divisor {
+    /// `den` with its reciprocal (none for `0` or from 2¹⁶ on: those
+    /// quotients take [`Scalar::ratio`]'s route).
+    pub const fn new(den: u32) -> Self {
+        if den == 0 || den >= 1 << 16 {
+            return Self::plain(den);
+        }
+        Divisor { den, whole: (1 << 24) / den, rest: (1 << 24) % den, recip: u32::MAX / den }
+    }
+    /// `den` without a reciprocal: [`Scalar::ratio_by`] is then
+    /// [`Scalar::ratio`] (for a divisor used only a few times).
+    pub const fn plain(den: u32) -> Self {
+        Divisor { den, whole: 0, rest: 0, recip: 0 }
+    }
+    /// The divisor.
+    #[inline(always)]
+    pub const fn get(&self) -> u32 {
+        self.den
+    }
+    /// `⌊(num·2²⁴ + ⌊den/2⌋)/den⌋` for `num < 2¹⁶` and `num < 2⁷·den`
+    /// (so below 2³¹), or `None` where that does not hold or `den` has no
+    /// reciprocal. `wmul_hi` is the high word of a 32×32-bit product.
+    #[inline(always)]
+    pub(crate) fn rounded_q24(&self, num: u32, wmul_hi: impl Fn(u32, u32) -> u32) -> Option<u32> {
+        if self.recip == 0 || num >= 1 << 16 || num >= self.den << 7 {
+            return None;
+        }
+        // num·B + h < (2¹⁶ − 1)·(2¹⁶ − 2) + 2¹⁵ < 2³²: exact. (Wrapping
+        // forms only spare the overflow checks; every step is exact.)
+        let n2 = num.wrapping_mul(self.rest).wrapping_add(self.den >> 1);
+        // m·den ∈ (2³² − 1 − den, 2³² − 1], so n2·m/2³² lies within
+        // n2·(den + 1)/(den·2³²) < 2 below n2/den.
+        let mut q2 = wmul_hi(n2, self.recip);
+        // The remainder is below 3·den < 2¹⁸: exact modulo 2³².
+        let mut r = n2.wrapping_sub(q2.wrapping_mul(self.den));
+        while r >= self.den {
+            r = r.wrapping_sub(self.den);
+            q2 = q2.wrapping_add(1);
+        }
+        // num < 2⁷·den: the quotient, num·A + q2, is below 2³¹.
+        Some(num.wrapping_mul(self.whole).wrapping_add(q2))
     }
 }
 
