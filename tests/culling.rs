@@ -12,7 +12,7 @@ mod common;
 use common::*;
 use raypack::lanes::{Lanes, Mask};
 use raypack::prelude::*;
-use raypack::query::{Hit, ScreenCull};
+use raypack::query::{Hit, ScreenCull, ShadowCull};
 use raypack::ray::RayPacket;
 use raypack::{Fixed, Fixed32};
 
@@ -258,4 +258,72 @@ fn cull_rectangles_hold_every_hit_pixel() {
     assert!(rectangles_hold_hits::<Fixed32>(0xC01A, 30, 0.12, "fixed32") > 1000);
     assert!(rectangles_hold_hits::<Fixed32>(0xC01B, 15, 0.01, "fixed32 x0.01") > 100);
     assert!(rectangles_hold_hits::<Fixed>(0xC01C, 20, 1.0, "fixed") > 1000);
+}
+
+/// Every crossing of a ray with a primitive (at `t > 0`, from an origin
+/// anywhere: inside and beside the primitives, on their surfaces, far
+/// out) leaves that primitive among the candidates of
+/// `ShadowCull::reach_candidates`, the reflected and refracted rays'
+/// culling: seeded random scenes and rays, every primitive tested
+/// directly. Returns (crossings, culled tests): both must be many, or the
+/// test proves nothing.
+fn reach_holds_hits<S: Scalar>(seed: u64, cases: u32, scale: f32, name: &str) -> (usize, usize) {
+    let mut rng = Rng(seed);
+    let (mut crossings, mut culled) = (0, 0);
+    for case in 0..cases {
+        let n = 1 + rng.below(12) as usize;
+        let scene = random_scene_in::<f32>(&mut rng, n);
+        let Some(scaled) = scaled_scene::<S>(&scene.view(), scale) else { continue };
+        let view = scaled.view();
+        let mut cull = ShadowCull::<S>::empty();
+        cull.fill(&view).unwrap();
+        for _ in 0..400 {
+            // Origins: random, at a primitive's bounds centre (inside it),
+            // or on the segment between two bounds' corners.
+            let mut o = rng.vec(-8.0, 8.0);
+            if rng.below(2) == 0 {
+                let k = rng.below(n as u32) as usize;
+                if let Some((lo, hi)) = scene.view().primitives()[k].shape.bounds(scene.view().vertices()) {
+                    let t = rng.range(-0.2, 1.2);
+                    o = lo + (hi - lo).scale(t);
+                }
+            }
+            let d = rng.unit();
+            let o = Vec3::new(S::from_f32(o.x * scale), S::from_f32(o.y * scale), S::from_f32(o.z * scale));
+            let (ray, active) = RayPacket::<S, 1>::new(
+                o.splat(),
+                Vec3::new(S::from_f32(d.x), S::from_f32(d.y), S::from_f32(d.z)).splat(),
+            );
+            if active.none() {
+                continue;
+            }
+            let among = cull.reach_candidates(&ray, active);
+            for (k, p) in view.primitives().iter().enumerate() {
+                let r = p.shape.roots(view.vertices(), &ray, Lanes::splat(S::ZERO), Lanes::splat(S::MAX), active);
+                let hit = r.hit0.any() || r.hit1.any();
+                let kept = among.checked_shr(k as u32).is_none_or(|b| b & 1 == 1);
+                if hit {
+                    crossings += 1;
+                    assert!(kept, "{name} case {case}: primitive {k} crossed by a ray the reach culls");
+                } else if !kept {
+                    culled += 1;
+                }
+            }
+        }
+    }
+    (crossings, culled)
+}
+
+#[test]
+fn reach_spheres_hold_every_crossing() {
+    for (c, name) in [
+        (reach_holds_hits::<f32>(0xC01D, 40, 1.0, "f32"), "f32"),
+        (reach_holds_hits::<f32>(0xC01E, 15, 1.0e-3, "f32 x1e-3"), "f32 x1e-3"),
+        (reach_holds_hits::<f32>(0xC01F, 15, 1.0e4, "f32 x1e4"), "f32 x1e4"),
+        (reach_holds_hits::<Fixed32>(0xC020, 30, 0.12, "fixed32"), "fixed32"),
+        (reach_holds_hits::<Fixed32>(0xC021, 15, 0.01, "fixed32 x0.01"), "fixed32 x0.01"),
+        (reach_holds_hits::<Fixed>(0xC022, 20, 1.0, "fixed"), "fixed"),
+    ] {
+        assert!(c.0 > 500 && c.1 > 2000, "{name}: {} crossings, {} culled tests", c.0, c.1);
+    }
 }

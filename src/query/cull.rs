@@ -47,6 +47,7 @@
 
 use crate::geom::camera::Camera;
 use crate::geom::primitives::Shape;
+use crate::geom::ray::RayPacket;
 use crate::geom::vec3::{Vec3, Vec3xW};
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
@@ -362,19 +363,20 @@ fn span(c0: f32, c1: f32, last: u16) -> Option<(u16, u16)> {
 /// test every primitive).
 pub const SHADOW_LIGHTS: usize = 2;
 
-/// Most primitives a [`ShadowCull`] holds per light: the first ones of the
-/// scene; shadow rays test every further primitive. (Each entry is a few
-/// dozen bytes, and the table lives on the stack of small firmware.)
-pub const SHADOW_OCCLUDERS: usize = 16;
+/// Most primitives a [`ShadowCull`] holds per light (and for reflected and
+/// refracted rays): the first ones of the scene; rays test every further
+/// primitive. The table lives on the stack: 56 bytes per entry with
+/// 32-bit scalars and two lights, so 32-bit targets (microcontrollers,
+/// WebAssembly) hold 12 entries, 64-bit hosts 24.
+pub const SHADOW_OCCLUDERS: usize = if cfg!(target_pointer_width = "64") { 24 } else { 12 };
 
 /// One primitive as seen from one light: shadow rays whose direction `d`
 /// (towards the light) lies outside the box `[dlo, dhi]`, or has
 /// `d·axis > limit`, cannot reach it. The box is tested first: six
-/// comparisons, no product. A primitive that is always a candidate has
-/// `always` set.
+/// comparisons, no product. (Primitives that are always candidates are
+/// bits of [`ShadowCull`]'s `always` masks, not entries.)
 #[derive(Clone, Copy, Debug)]
 struct Occluder<S> {
-    always: bool,
     dlo: Vec3<S>,
     dhi: Vec3<S>,
     axis: Vec3<S>,
@@ -382,9 +384,28 @@ struct Occluder<S> {
 }
 
 impl<S: Scalar> Occluder<S> {
-    /// Always a candidate.
-    const ALWAYS: Self = Occluder { always: true, dlo: Vec3::ZERO, dhi: Vec3::ZERO, axis: Vec3::ZERO, limit: S::MAX };
+    /// An unused entry.
+    const NONE: Self = Occluder { dlo: Vec3::ZERO, dhi: Vec3::ZERO, axis: Vec3::ZERO, limit: S::MAX };
 }
+
+/// One primitive for reflected and refracted rays: its bounds' sphere,
+/// grown (see [`ShadowCull`]), as its centre and squared radius.
+#[derive(Clone, Copy, Debug)]
+struct Reach<S> {
+    centre: Vec3<S>,
+    r2: S,
+}
+
+impl<S: Scalar> Reach<S> {
+    /// An unused entry.
+    const NONE: Self = Reach { centre: Vec3::ZERO, r2: S::MAX };
+}
+
+/// Largest `|C − O|` (each component) of a bounding sphere's centre `C`
+/// from a ray's origin `O` for which a scalar of limited range
+/// ([`Scalar::LIMITED_RANGE`]) culls: the test's squares then stay below
+/// 3·4² = 48, inside Q8.24's range. Rays from further out test everything.
+const REACH_RANGE: f32 = 4.0;
 
 /// Per light and primitive, the shadow-ray directions that can reach the
 /// primitive, for the shadow rays the tracer casts (see below); with it
@@ -412,23 +433,46 @@ impl<S: Scalar> Occluder<S> {
 /// light, is always a candidate. `e` is fixed per frame for hit
 /// points within twice the scene's extent (`eps <= e_lim`); lanes further
 /// out (a far point of a plane) test every primitive.
+///
+/// Reflected and refracted rays (their origin `O` anywhere, unit direction
+/// `d`, `t > 0`) are culled by each bounded primitive's sphere: the sphere
+/// around its bounds, grown by `m` and by a 64th of its radius, centre
+/// `C`, radius `R`. With `b = (C − O)·d` and `q = |C − O|² − b²` (the
+/// squared distance from `C` to the ray's line), no point of the sphere
+/// lies on the ray if `q > R²` (the line passes outside) or `b < −R`
+/// (the sphere is behind the origin); each test has a slack of
+/// `|C − O|²/1024` for the rounding of `d` and of the products. Spheres
+/// and planes are always tested (their kernel is that test or cheaper),
+/// and so are lanes whose origin is far from the centre in a scalar of
+/// limited range ([`REACH_RANGE`]), where the squares would not fit.
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowCull<S> {
     occluders: [[Occluder<S>; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
+    /// Per light, the primitives always tested (bit `k`, below `len`).
+    always: [Candidates; SHADOW_LIGHTS],
     lights: usize,
     len: usize,
     /// Largest offset scale of a hit point whose shadow rays may be culled.
     eps_limit: S,
+    /// The spheres for reflected and refracted rays, and the primitives
+    /// they always test; `reach_len` entries (0: the rays test everything).
+    reach: [Reach<S>; SHADOW_OCCLUDERS],
+    reach_always: Candidates,
+    reach_len: usize,
 }
 
 impl<S: Scalar> ShadowCull<S> {
     /// A table that culls nothing (every primitive a candidate).
     pub fn empty() -> Self {
         ShadowCull {
-            occluders: [[Occluder::ALWAYS; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
+            occluders: [[Occluder::NONE; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
+            always: [ALL; SHADOW_LIGHTS],
             lights: 0,
             len: 0,
             eps_limit: S::ZERO,
+            reach: [Reach::NONE; SHADOW_OCCLUDERS],
+            reach_always: ALL,
+            reach_len: 0,
         }
     }
 
@@ -439,11 +483,11 @@ impl<S: Scalar> ShadowCull<S> {
     pub fn fill(&mut self, scene: &SceneView<'_, S>) -> Result<(), CullError> {
         self.lights = 0;
         self.len = 0;
+        self.reach_len = 0;
         let prims = scene.primitives();
         if prims.len() > CULL_CAPACITY {
             return Err(CullError::Capacity { primitives: prims.len() });
         }
-        let none = Occluder::ALWAYS;
         let pool = scene.vertices();
         // The scene's extent: lights and bounded primitives.
         let mut extent = 0.0f32;
@@ -466,16 +510,45 @@ impl<S: Scalar> ShadowCull<S> {
         if !grow.is_finite() {
             return Ok(());
         }
-        for (row, l) in self.occluders.iter_mut().zip(scene.lights()) {
+        for ((row, always), l) in self.occluders.iter_mut().zip(self.always.iter_mut()).zip(scene.lights()) {
             let lp = l.position.to_f32();
-            for (slot, p) in row.iter_mut().zip(prims) {
-                *slot = match bounds_f32(&p.shape, pool) {
-                    None => none,
-                    Some((lo, hi)) => cone(lp, lo, hi, grow).unwrap_or(none),
-                };
+            *always = 0;
+            for (k, (slot, p)) in row.iter_mut().zip(prims).enumerate() {
+                match bounds_f32(&p.shape, pool).and_then(|(lo, hi)| cone(lp, lo, hi, grow)) {
+                    Some(o) => *slot = o,
+                    None => *always |= 1 << k,
+                }
             }
         }
         self.lights = scene.lights().len().min(SHADOW_LIGHTS);
+        // Reflected and refracted rays: the bounds' spheres, grown by the
+        // margin `m` (their origins need no offset term: the test is of
+        // the ray as the kernels see it) and by a 64th of the radius. A
+        // radius whose square would not fit the scalar is always tested.
+        // (In a scalar of limited range, radii whose square the test's
+        // range holds, and centres well inside the range.)
+        let (r2_max, c_max) =
+            if S::LIMITED_RANGE { (3.0 * REACH_RANGE * REACH_RANGE, 64.0) } else { (f32::MAX / 4.0, f32::MAX) };
+        self.reach_always = 0;
+        for (k, (slot, p)) in self.reach.iter_mut().zip(prims).enumerate() {
+            let bounds = match p.shape {
+                Shape::Sphere(_) | Shape::Plane(_) => None,
+                _ => bounds_f32(&p.shape, pool),
+            };
+            let sphere = bounds.and_then(|(lo, hi)| {
+                let c = [(lo[0] + hi[0]) * 0.5, (lo[1] + hi[1]) * 0.5, (lo[2] + hi[2]) * 0.5];
+                let h = [hi[0] - c[0], hi[1] - c[1], hi[2] - c[2]];
+                let r = (libm::sqrtf(dot(h, h)) * 1.0001 + m) * (1.0 + 1.0 / 64.0);
+                let r2 = r * r;
+                (r2 <= r2_max && max_abs(c) <= c_max)
+                    .then(|| Reach { centre: Vec3::from_f32(c[0], c[1], c[2]), r2: S::from_f32(r2) })
+            });
+            match sphere {
+                Some(e) => *slot = e,
+                None => self.reach_always |= 1 << k,
+            }
+        }
+        self.reach_len = prims.len().min(SHADOW_OCCLUDERS);
         // Primitives past the table stay candidates (`candidates` sets
         // every bit from `len` up).
         self.len = prims.len().min(SHADOW_OCCLUDERS);
@@ -499,12 +572,10 @@ impl<S: Scalar> ShadowCull<S> {
         if lit.and_not(eps.le(Lanes::splat(self.eps_limit))).any() {
             return ALL;
         }
-        let mut m = !low_bits(self.len);
-        for (k, o) in row.iter().take(self.len).enumerate() {
-            if o.always {
-                m |= 1 << k;
-                continue;
-            }
+        let always = self.always.get(light).copied().unwrap_or(ALL);
+        let mut m = !low_bits(self.len) | always;
+        for k in candidate_indices(!always, self.len) {
+            let Some(o) = row.get(k) else { break };
             // The box of directions first (comparisons only, one axis at a
             // time: most occluders are left behind by the first), then the
             // cone for the lanes inside it.
@@ -522,6 +593,38 @@ impl<S: Scalar> ShadowCull<S> {
                 continue;
             }
             if o.limit == S::MAX || (inside & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any() {
+                m |= 1 << k;
+            }
+        }
+        m
+    }
+
+    /// The primitives the reflected or refracted rays `ray` (unit
+    /// directions, `t > 0`) in the lanes `active` can reach. (Out of line
+    /// on small cores: inlined, its registers would deepen the tracer's
+    /// stack frame.)
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    #[cfg_attr(not(any(target_arch = "x86", target_arch = "x86_64")), inline(never))]
+    pub fn reach_candidates<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>) -> Candidates {
+        let mut m = !low_bits(self.reach_len) | self.reach_always;
+        if self.reach_len == 0 {
+            return m;
+        }
+        let range = Lanes::splat(if S::LIMITED_RANGE { S::from_f32(REACH_RANGE) } else { S::MAX });
+        let slack = Lanes::splat(S::from_f32(1.0 / 1024.0));
+        let zero = Lanes::<S, W>::zero();
+        for k in candidate_indices(!self.reach_always, self.reach_len) {
+            let Some(e) = self.reach.get(k) else { break };
+            let oc = e.centre.splat::<W>() - ray.origin;
+            // Lanes too far out for the scalar's range: a candidate.
+            let near = oc.x.abs().le(range) & oc.y.abs().le(range) & oc.z.abs().le(range);
+            let b = oc.dot(ray.dir);
+            let oc2 = oc.dot(oc);
+            let bb = b * b;
+            let r2 = Lanes::splat(e.r2) + oc2 * slack;
+            // Outside the line's reach, or wholly behind the origin.
+            let missed = (oc2 - bb).gt(r2) | (b.lt(zero) & bb.gt(r2));
+            if active.and_not(near & missed).any() {
                 m |= 1 << k;
             }
         }
@@ -553,7 +656,6 @@ fn cone<S: Scalar>(l: [f32; 3], lo: [f32; 3], hi: [f32; 3], grow: f32) -> Option
         (Vec3::ZERO, S::MAX)
     };
     Some(Occluder {
-        always: false,
         dlo: Vec3::from_f32(dlo[0], dlo[1], dlo[2]),
         dhi: Vec3::from_f32(dhi[0], dhi[1], dhi[2]),
         axis,
@@ -609,6 +711,7 @@ fn direction_box(l: [f32; 3], lo: [f32; 3], hi: [f32; 3], grow: f32) -> Option<(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::num::fixed32::Fixed32;
     use crate::scene::{Material, Scene};
 
     #[test]
@@ -719,8 +822,56 @@ mod tests {
     }
 
     #[test]
+    fn reach_culls_boxes_a_ray_passes_or_leaves_behind() {
+        fn one<S: Scalar>() {
+            let f = S::from_f32;
+            let v = |x: f32, y: f32, z: f32| Vec3::new(f(x), f(y), f(z));
+            let mut s = Scene::<S, 8, 8, 2, 2>::new();
+            let m = s.add_material(Material::diffuse(v(1.0, 1.0, 1.0))).unwrap();
+            s.add_box(v(0.5, -0.25, -0.25), v(1.0, 0.25, 0.25), m).unwrap(); // 0
+            s.add_sphere(v(-1.0, 1.0, 0.0), f(0.25), m).unwrap(); // 1: always
+            s.add_plane(f(0.0), f(0.0), f(1.0), f(1.5), m).unwrap(); // 2: always
+            let mut c = ShadowCull::<S>::empty();
+            c.fill(&s.view()).unwrap();
+            let ray = |o: Vec3<S>, d: Vec3<S>| RayPacket::<S, 1>::new(o.splat(), d.splat());
+            let at = |o: Vec3<S>, d: Vec3<S>| {
+                let (r, ok) = ray(o, d);
+                c.reach_candidates(&r, ok) & 0b111
+            };
+            // Towards the box, away from it, and past it.
+            assert_eq!(at(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0)), 0b111);
+            assert_eq!(at(v(0.0, 0.0, 0.0), v(-1.0, 0.0, 0.0)), 0b110);
+            assert_eq!(at(v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0)), 0b110);
+            // From inside it, any way.
+            assert_eq!(at(v(0.75, 0.0, 0.0), v(-1.0, 0.0, 0.0)), 0b111);
+            // No active lane: only the primitives always tested.
+            let (r, _) = ray(v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0));
+            assert_eq!(c.reach_candidates(&r, Mask::splat(false)) & 0b111, 0b110);
+        }
+        one::<f32>();
+        one::<Fixed32>();
+    }
+
+    #[test]
+    fn reach_tests_everything_from_far_origins_in_fixed_point() {
+        // A Q8.24 origin 100 units out: the squares would saturate, so the
+        // box stays a candidate even for a ray that leaves it behind.
+        let f = Fixed32::from_f32;
+        let v = |x: f32, y: f32, z: f32| Vec3::new(f(x), f(y), f(z));
+        let mut s = Scene::<Fixed32, 8, 8, 2, 2>::new();
+        let m = s.add_material(Material::diffuse(v(1.0, 1.0, 1.0))).unwrap();
+        s.add_box(v(0.5, -0.25, -0.25), v(1.0, 0.25, 0.25), m).unwrap();
+        let mut c = ShadowCull::<Fixed32>::empty();
+        c.fill(&s.view()).unwrap();
+        let (r, ok) = RayPacket::<Fixed32, 1>::new(v(100.0, 0.0, 0.0).splat(), v(1.0, 0.0, 0.0).splat());
+        assert_eq!(c.reach_candidates(&r, ok) & 1, 1);
+        let (r, ok) = RayPacket::<Fixed32, 1>::new(v(3.0, 0.0, 0.0).splat(), v(1.0, 0.0, 0.0).splat());
+        assert_eq!(c.reach_candidates(&r, ok) & 1, 0);
+    }
+
+    #[test]
     fn primitives_past_the_shadow_table_stay_candidates() {
-        let mut s = Scene::<f32, 24, 8, 2, 2>::new();
+        let mut s = Scene::<f32, 32, 8, 2, 2>::new();
         let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
         for k in 0..SHADOW_OCCLUDERS + 2 {
             s.add_sphere(Vec3::new(k as f32 * 3.0, 5.0, 0.0), 1.0, m).unwrap();

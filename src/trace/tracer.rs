@@ -352,9 +352,9 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// [`Tracer::trace`] for camera rays that can hit only the primitives
     /// in `candidates` (see [`Accelerator::closest_hit_among`]; the
     /// renderer's screen culling, [`crate::query::cull`]): the same bits,
-    /// fewer tests. Shadow rays test the primitives `shadows` says they
-    /// can reach (every primitive without it); reflected and refracted
-    /// rays test every primitive.
+    /// fewer tests. Shadow, reflected and refracted rays test the
+    /// primitives `shadows` says they can reach (every primitive without
+    /// it).
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn trace_among<const W: usize>(
         &self,
@@ -391,9 +391,13 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 RayKind::Reflected => RayStats::tally(&mut stats.reflected, &mut stats.reflected_packets, n),
                 RayKind::Refracted => RayStats::tally(&mut stats.refracted, &mut stats.refracted_packets, n),
             }
-            // Camera rays test only their candidates; every other ray
-            // tests everything.
-            let among = if p.kind == RayKind::Primary { candidates } else { ALL };
+            // Camera rays test only their candidates, reflected and
+            // refracted rays the primitives whose spheres they reach.
+            let among = match (p.kind, shadows) {
+                (RayKind::Primary, _) => candidates,
+                (_, Some(c)) => c.reach_candidates(&p.ray, p.active),
+                (_, None) => ALL,
+            };
             let hit = self.accel.closest_hit_among(&self.scene, &p.ray, zero, Lanes::splat(S::MAX), p.active, among);
             // Rays that hit nothing see the background.
             let miss = p.active.and_not(hit.mask);
