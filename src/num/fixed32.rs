@@ -1087,7 +1087,8 @@ impl Scalar for Fixed32 {
             return 0;
         }
         // Position of the top bit; [½, 1) has its top bit at FRAC − 1.
-        let top = 31 - raw.leading_zeros() as i32;
+        // (`clz`: `leading_zeros` is a library call on Armv6-M.)
+        let top = 31 - clz(raw) as i32;
         (FRAC as i32 - 1 - top).clamp(-8, 6)
     }
     /// The product by `2^k` as a shift, bit for bit `self * 2^k` where

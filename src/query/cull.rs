@@ -389,16 +389,17 @@ impl<S: Scalar> Occluder<S> {
 }
 
 /// One primitive for reflected and refracted rays: its bounds' sphere,
-/// grown (see [`ShadowCull`]), as its centre and squared radius.
+/// grown (see [`ShadowCull`]), as its centre, radius and squared radius.
 #[derive(Clone, Copy, Debug)]
 struct Reach<S> {
     centre: Vec3<S>,
+    r: S,
     r2: S,
 }
 
 impl<S: Scalar> Reach<S> {
     /// An unused entry.
-    const NONE: Self = Reach { centre: Vec3::ZERO, r2: S::MAX };
+    const NONE: Self = Reach { centre: Vec3::ZERO, r: S::MAX, r2: S::MAX };
 }
 
 /// Largest `|C − O|` (each component) of a bounding sphere's centre `C`
@@ -540,8 +541,11 @@ impl<S: Scalar> ShadowCull<S> {
                 let h = [hi[0] - c[0], hi[1] - c[1], hi[2] - c[2]];
                 let r = (libm::sqrtf(dot(h, h)) * 1.0001 + m) * (1.0 + 1.0 / 64.0);
                 let r2 = r * r;
-                (r2 <= r2_max && max_abs(c) <= c_max)
-                    .then(|| Reach { centre: Vec3::from_f32(c[0], c[1], c[2]), r2: S::from_f32(r2) })
+                (r2 <= r2_max && max_abs(c) <= c_max).then(|| Reach {
+                    centre: Vec3::from_f32(c[0], c[1], c[2]),
+                    r: S::from_f32(r),
+                    r2: S::from_f32(r2),
+                })
             });
             match sphere {
                 Some(e) => *slot = e,
@@ -616,6 +620,24 @@ impl<S: Scalar> ShadowCull<S> {
         for k in candidate_indices(!self.reach_always, self.reach_len) {
             let Some(e) = self.reach.get(k) else { break };
             let oc = e.centre.splat::<W>() - ray.origin;
+            // First, comparisons only: lanes whose origin lies more than
+            // `R` beyond the centre along an axis and whose direction does
+            // not head back along it. (`C − O` is exact in fixed point, and
+            // within one rounding of its own magnitude in floating point,
+            // far less than `R`'s growth; saturated components keep their
+            // sign.)
+            let d = &ray.dir;
+            let (r, nr) = (Lanes::splat(e.r), Lanes::splat(-e.r));
+            let away = (oc.x.gt(r) & d.x.le(zero))
+                | (oc.x.lt(nr) & d.x.ge(zero))
+                | (oc.y.gt(r) & d.y.le(zero))
+                | (oc.y.lt(nr) & d.y.ge(zero))
+                | (oc.z.gt(r) & d.z.le(zero))
+                | (oc.z.lt(nr) & d.z.ge(zero));
+            let active = active.and_not(away);
+            if active.none() {
+                continue;
+            }
             // Lanes too far out for the scalar's range: a candidate.
             let near = oc.x.abs().le(range) & oc.y.abs().le(range) & oc.z.abs().le(range);
             let b = oc.dot(ray.dir);
@@ -854,8 +876,9 @@ mod tests {
 
     #[test]
     fn reach_tests_everything_from_far_origins_in_fixed_point() {
-        // A Q8.24 origin 100 units out: the squares would saturate, so the
-        // box stays a candidate even for a ray that leaves it behind.
+        // A Q8.24 origin 100 units out: the squares would saturate, so a
+        // ray heading past the box stays a candidate; comparisons alone
+        // still cull one that leaves the box behind.
         let f = Fixed32::from_f32;
         let v = |x: f32, y: f32, z: f32| Vec3::new(f(x), f(y), f(z));
         let mut s = Scene::<Fixed32, 8, 8, 2, 2>::new();
@@ -863,10 +886,16 @@ mod tests {
         s.add_box(v(0.5, -0.25, -0.25), v(1.0, 0.25, 0.25), m).unwrap();
         let mut c = ShadowCull::<Fixed32>::empty();
         c.fill(&s.view()).unwrap();
-        let (r, ok) = RayPacket::<Fixed32, 1>::new(v(100.0, 0.0, 0.0).splat(), v(1.0, 0.0, 0.0).splat());
-        assert_eq!(c.reach_candidates(&r, ok) & 1, 1);
-        let (r, ok) = RayPacket::<Fixed32, 1>::new(v(3.0, 0.0, 0.0).splat(), v(1.0, 0.0, 0.0).splat());
-        assert_eq!(c.reach_candidates(&r, ok) & 1, 0);
+        let at = |o: Vec3<Fixed32>, d: Vec3<Fixed32>| {
+            let (r, ok) = RayPacket::<Fixed32, 1>::new(o.splat(), d.splat());
+            c.reach_candidates(&r, ok) & 1
+        };
+        // Towards the box, passing 0.99 above it: a miss, but untested.
+        assert_eq!(at(v(100.0, 0.0, 0.0), v(-1.0, 0.01, 0.0)), 1);
+        // Away from it: culled by comparisons.
+        assert_eq!(at(v(100.0, 0.0, 0.0), v(1.0, 0.0, 0.0)), 0);
+        // Near, passing above it: culled by the full test.
+        assert_eq!(at(v(3.0, 0.0, 0.0), v(-1.0, 0.5, 0.0)), 0);
     }
 
     #[test]
