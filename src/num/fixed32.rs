@@ -308,28 +308,40 @@ impl core::fmt::Debug for Fixed32 {
 // ---------------------------------------------------------------------------
 // Integer building blocks: leading zeros and the 32×32→64 product.
 
-/// Leading zeros of `x` (31 for `x = 0`, which no caller passes), by a
-/// five-step binary search: Armv6-M has no CLZ instruction and
-/// `u32::leading_zeros` would call `__clzsi2`. Each step shifts the window
-/// up by half its width when the upper half is empty; LLVM compiles the
-/// `bool as u32` selects into compare-and-shift sequences.
+/// Multiplier of [`clz_soft`]: `(2ᵏ − 1)·CLZ_MUL >> 27` differs for every
+/// `k` in `1..=32` (a de Bruijn-like constant; `k = 0` shares `k = 1`'s).
+const CLZ_MUL: u32 = 0x07C4_ACDD;
+
+/// [`clz_soft`]'s table: `32 − k` at the index of `2ᵏ − 1`.
+const CLZ_TABLE: [u8; 32] = {
+    let mut t = [0u8; 32];
+    let mut k = 1;
+    while k <= 32 {
+        let v = if k == 32 { u32::MAX } else { (1u32 << k) - 1 };
+        t[(v.wrapping_mul(CLZ_MUL) >> 27) as usize] = 32 - k as u8;
+        k += 1;
+    }
+    t
+};
+
+/// Leading zeros of `x` (31 for `x = 0`, which no caller passes) without
+/// a CLZ instruction, which Armv6-M lacks (`u32::leading_zeros` would call `__clzsi2`, about 35
+/// instructions): the bits below the top one are set (`x` becomes `2ᵏ − 1`,
+/// `k = 32 − clz`), and a multiplication turns that into a table index.
+/// About 15 instructions and no branch.
 #[inline(always)]
 #[cfg_attr(any(target_pointer_width = "64", target_arch = "wasm32"), allow(dead_code))]
-fn clz_soft(mut x: u32) -> u32 {
-    let mut n = 0;
-    let s = ((x >> 16 == 0) as u32) << 4;
-    x <<= s;
-    n += s;
-    let s = ((x >> 24 == 0) as u32) << 3;
-    x <<= s;
-    n += s;
-    let s = ((x >> 28 == 0) as u32) << 2;
-    x <<= s;
-    n += s;
-    let s = ((x >> 30 == 0) as u32) << 1;
-    x <<= s;
-    n += s;
-    n + ((x >> 31) ^ 1)
+fn clz_soft(x: u32) -> u32 {
+    let mut v = x;
+    v |= v >> 1;
+    v |= v >> 2;
+    v |= v >> 4;
+    v |= v >> 8;
+    v |= v >> 16;
+    match CLZ_TABLE.get((v.wrapping_mul(CLZ_MUL) >> 27) as usize) {
+        Some(&n) => n as u32,
+        None => 0, // unreachable: the index is below 32
+    }
 }
 
 /// Leading zeros of a nonzero `x`: the instruction on 64-bit hosts and WebAssembly, the
@@ -1515,6 +1527,7 @@ mod tests {
 
     #[test]
     fn clz_soft_matches_hardware() {
+        assert_eq!(clz_soft(0), 31);
         let mut rng = Rng(3);
         for s in 0..32 {
             let x = 1u32 << s;
