@@ -181,20 +181,32 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// become zero vectors and are cleared in the returned mask.
     #[inline(always)]
     pub fn normalize(self) -> (Self, Mask<W>) {
+        let (n, _, ok) = self.normalize_with_length();
+        (n, ok)
+    }
+    /// [`Vec3xW::normalize`] and each lane's length: the one the unit
+    /// vector was divided by, brought back to the vector's own scale. With
+    /// [`Scalar::NORMALIZE_PRESCALE`] that is the prescaled length times
+    /// `2^−k` (one rounding, for `k > 0`; saturating past the range), which
+    /// spares a second square root; otherwise `length_squared().sqrt()`
+    /// bit for bit. Meaningless in the lanes the mask clears.
+    #[inline(always)]
+    pub fn normalize_with_length(self) -> (Self, Lanes<S, W>, Mask<W>) {
         // Fixed point: the largest component brought near 1 first, exactly
         // (see `Scalar::NORMALIZE_PRESCALE`).
-        let v = if S::NORMALIZE_PRESCALE {
+        let (v, k) = if S::NORMALIZE_PRESCALE {
             let m = self.x.abs().max(self.y.abs()).max(self.z.abs());
             let k = m.0.map(S::normalizing_exponent);
-            Vec3::new(self.x.mul_pow2(k), self.y.mul_pow2(k), self.z.mul_pow2(k))
+            (Vec3::new(self.x.mul_pow2(k), self.y.mul_pow2(k), self.z.mul_pow2(k)), k)
         } else {
-            self
+            (self, [0; W])
         };
         let len = v.length_squared().sqrt();
         let ok = len.gt(Lanes::zero()) & len.finite();
         let inv = Lanes::splat(S::ONE).div_nonzero(Lanes::select(ok, len, Lanes::splat(S::ZERO)));
         let n = v.scale(inv);
-        (Self::select(ok, n, Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero())), ok)
+        let length = if S::NORMALIZE_PRESCALE { len.mul_pow2(k.map(|k| -k)) } else { len };
+        (Self::select(ok, n, Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero())), length, ok)
     }
     /// Component `axis` (0 = x, 1 = y, anything else = z) of every lane.
     #[inline(always)]

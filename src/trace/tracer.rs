@@ -453,7 +453,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         for (li, light) in (0..lights.len()).zip(lights.iter()) {
             // Direction and distance to the light.
             let to_light = light.position.splat::<W>() - surf.point;
-            let (l_dir, ok) = to_light.normalize();
+            let (l_dir, dist, ok) = to_light.normalize_with_length();
             let n_dot_l = surf.shading.dot(l_dir);
             let g_dot_l = if flat { n_dot_l } else { surf.geometric.dot(l_dir) };
             // Only lights on the lit side of both the geometric and the shading surface.
@@ -462,7 +462,6 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 continue;
             }
             let trans = if shadows {
-                let dist = to_light.length_squared().sqrt();
                 RayStats::tally(&mut stats.shadow, &mut stats.shadow_packets, lit.count() as u64);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
                 // Only the primitives some of these rays can reach.
