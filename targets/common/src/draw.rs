@@ -12,6 +12,7 @@
 //! the RGB565 stream the panel gets, bit for bit, and the RGB888 image too.
 
 use crate::Failure;
+use crate::{SceneSlot, SlotScalar};
 use core::convert::Infallible;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{OriginDimensions, Point, Size};
@@ -24,7 +25,6 @@ use raypack::draw_target::{DrawError, FromRgb8};
 use raypack::output::{Dither, Fnv1a, ImageChecksums, CHECKSUM_DITHER};
 use raypack::render::{Renderer, Rgb8};
 use raypack::trace::{RayStats, TraceSettings, Tracer};
-use crate::{SceneSlot, SlotScalar};
 
 /// Builds the core's demo scene for scalar `S` in `slot` (typically a
 /// `static`, so the scene is never copied on the stack; a Q8.24 scene is
@@ -174,7 +174,10 @@ impl DrawTarget for ChecksumPanel {
 
 /// [`render_demo_into`] a [`ChecksumPanel`]: the checksums and ray counts of
 /// the demo image, as `targets/checksums.txt` records them.
-pub fn render_demo<S: SlotScalar, const W: usize>(slot: &mut SceneSlot, band: &mut [Rgb8]) -> Result<ImageChecksums, Failure> {
+pub fn render_demo<S: SlotScalar, const W: usize>(
+    slot: &mut SceneSlot,
+    band: &mut [Rgb8],
+) -> Result<ImageChecksums, Failure> {
     let mut panel = ChecksumPanel::new();
     let rays = render_demo_into::<S, W, _>(slot, band, &mut panel, Point::zero())?;
     Ok(panel.checksums(rays))

@@ -31,8 +31,8 @@ use raypack::output::RectPositions;
 use raypack::render::{BufferTooSmall, Renderer, Rgb8};
 use raypack::trace::RayStats;
 
-/// Rows per band: the Pico's band buffers (one per core, 3 840 bytes each).
-pub const BAND_ROWS: u32 = 8;
+/// Rows per band: the Pico's band buffers (one per core, 1 920 bytes each).
+pub const BAND_ROWS: u32 = 4;
 /// Cores the frame is split between.
 pub const CORES: u32 = 2;
 /// Bands in the image.
@@ -219,8 +219,9 @@ pub struct Shares {
     /// Ticks of the scene build and renderer set-up (core 0, before core 1
     /// starts).
     pub build: u64,
-    /// Ticks of each band's render.
-    pub band: [u64; BANDS as usize],
+    /// Ticks of each band's render (a band is far below 2³² instructions;
+    /// 32 bits keep the table small on the Cortex-M0's stack).
+    pub band: [u32; BANDS as usize],
     /// Pixels rendered for each core.
     pub pixels: [u32; CORES as usize],
 }
@@ -230,7 +231,7 @@ impl Shares {
     /// its bands.
     pub fn core(&self, core: u32) -> u64 {
         let bands = (0..BANDS).filter(|&i| band_owner(i) == core);
-        bands.fold(self.build, |t, i| t.saturating_add(self.band.get(i as usize).copied().unwrap_or(0)))
+        bands.fold(self.build, |t, i| t.saturating_add(self.band.get(i as usize).copied().unwrap_or(0) as u64))
     }
     /// The larger share: a lower bound of the two-core frame.
     pub fn larger(&self) -> u64 {
@@ -243,7 +244,7 @@ impl Shares {
     pub fn lockstep(&self) -> u64 {
         self.band
             .chunks(CORES as usize)
-            .fold(self.build, |t, pair| t.saturating_add(pair.iter().copied().max().unwrap_or(0)))
+            .fold(self.build, |t, pair| t.saturating_add(pair.iter().copied().max().unwrap_or(0) as u64))
     }
 }
 
@@ -289,7 +290,8 @@ impl<C: Clock> DrawTarget for TimedPanel<'_, C> {
         let now = self.clock.now();
         let index = (area.top_left.y.max(0) as u32) / BAND_ROWS;
         if let Some(t) = self.shares.band.get_mut(index as usize) {
-            *t = t.saturating_add(now.saturating_sub(self.mark));
+            let ticks = u32::try_from(now.saturating_sub(self.mark)).unwrap_or(u32::MAX);
+            *t = t.saturating_add(ticks);
         }
         if let Some(p) = self.shares.pixels.get_mut(band_owner(index) as usize) {
             *p = p.saturating_add(area.size.width.saturating_mul(area.size.height));
@@ -545,13 +547,16 @@ pub(crate) mod tests {
 
     #[test]
     fn the_shares_add_up() {
-        let s = Shares { build: 5, band: core::array::from_fn(|i| 10 + i as u64), pixels: [0; 2] };
+        let s = Shares { build: 5, band: core::array::from_fn(|i| 10 + i as u32), pixels: [0; 2] };
         let even: u64 = (0..BANDS as u64).filter(|i| i % 2 == 0).map(|i| 10 + i).sum();
         let odd: u64 = (0..BANDS as u64).filter(|i| i % 2 == 1).map(|i| 10 + i).sum();
         assert_eq!((s.core(0), s.core(1), s.larger()), (5 + even, 5 + odd, 5 + odd));
         assert_eq!(s.lockstep(), 5 + odd);
+        // Every fourth band heavy: all on core 0, each pair costs its
+        // heavier band.
         let s = Shares { build: 0, band: core::array::from_fn(|i| if i % 4 == 0 { 9 } else { 1 }), pixels: [0; 2] };
-        assert_eq!((s.core(0), s.core(1)), (9 * 4 + 4, 8));
-        assert_eq!(s.lockstep(), 9 * 4 + 4);
+        let quarter = BANDS as u64 / 4;
+        assert_eq!((s.core(0), s.core(1)), (9 * quarter + quarter, 2 * quarter));
+        assert_eq!(s.lockstep(), 9 * quarter + quarter);
     }
 }

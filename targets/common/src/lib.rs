@@ -60,7 +60,10 @@ union SceneUnion {
 impl SceneSlot {
     /// A slot holding an empty `f32` scene.
     pub const fn new() -> Self {
-        SceneSlot { scene: SceneUnion { f32: core::mem::ManuallyDrop::new(DemoScene::new()) }, described: DemoScene::new() }
+        SceneSlot {
+            scene: SceneUnion { f32: core::mem::ManuallyDrop::new(DemoScene::new()) },
+            described: DemoScene::new(),
+        }
     }
 }
 
@@ -164,7 +167,13 @@ pub use draw::{demo_renderer, render_demo, render_demo_into, ChecksumPanel, Prob
 /// under the name `scalar`, with the time as instructions retired under
 /// QEMU's `-icount shift=0` (`SCALAR.instructions=N`); returns whether the
 /// render ran.
-pub fn run<S: SlotScalar, const W: usize>(c: &mut impl Console, clock: &mut impl Clock, scalar: &str, slot: &mut SceneSlot, band: &mut [Rgb8]) -> bool {
+pub fn run<S: SlotScalar, const W: usize>(
+    c: &mut impl Console,
+    clock: &mut impl Clock,
+    scalar: &str,
+    slot: &mut SceneSlot,
+    band: &mut [Rgb8],
+) -> bool {
     let rate = clock.rate();
     let (r, ticks) = measure(clock, || render_demo::<S, W>(slot, band));
     match r {

@@ -120,7 +120,12 @@ pub fn draw_label<D: DrawTarget<Color = Rgb565>>(display: &mut D, scalar: &str, 
 
 /// Writes `text` on label line `line` (0 is the first; [`draw_label`]
 /// fills lines 0 to 5, a board may add lines 6 and 7), bright or dim.
-pub fn draw_label_line<D: DrawTarget<Color = Rgb565>>(display: &mut D, line: i32, text: &str, bright: bool) -> Result<(), D::Error> {
+pub fn draw_label_line<D: DrawTarget<Color = Rgb565>>(
+    display: &mut D,
+    line: i32,
+    text: &str,
+    bright: bool,
+) -> Result<(), D::Error> {
     let color = if bright { Rgb565::WHITE } else { DIM };
     draw_text(display, text, LABEL_TOP_LEFT + Point::new(0, line * LABEL_LINE), color, Rgb565::BLACK)
 }
@@ -140,7 +145,13 @@ const GLYPH_H: u32 = 10;
 /// from the font's glyph image with checked look-ups. (embedded-graphics'
 /// own `Text` drawing does the same, but leaves a slice-index panic
 /// reachable after LTO, which the `panic-never` build refuses.)
-pub fn draw_text<D: DrawTarget<Color = Rgb565>>(display: &mut D, text: &str, at: Point, color: Rgb565, background: Rgb565) -> Result<(), D::Error> {
+pub fn draw_text<D: DrawTarget<Color = Rgb565>>(
+    display: &mut D,
+    text: &str,
+    at: Point,
+    color: Rgb565,
+    background: Rgb565,
+) -> Result<(), D::Error> {
     let per_row = (FONT.image.size().width / GLYPH_W).max(1);
     let mut x = at.x;
     for c in text.chars() {
@@ -217,7 +228,13 @@ mod tests {
 
     impl WirePanel {
         fn new() -> Self {
-            WirePanel { pixels: vec![Rgb565::new(1, 2, 3); (PANEL_WIDTH * PANEL_HEIGHT) as usize], wire: Fnv::new(), sent: 0, armed: true, fills: 0 }
+            WirePanel {
+                pixels: vec![Rgb565::new(1, 2, 3); (PANEL_WIDTH * PANEL_HEIGHT) as usize],
+                wire: Fnv::new(),
+                sent: 0,
+                armed: true,
+                fills: 0,
+            }
         }
         fn put(&mut self, p: Point, c: Rgb565) {
             if self.armed {
@@ -248,7 +265,11 @@ mod tests {
             }
             Ok(())
         }
-        fn fill_contiguous<I: IntoIterator<Item = Rgb565>>(&mut self, area: &Rectangle, colors: I) -> Result<(), Self::Error> {
+        fn fill_contiguous<I: IntoIterator<Item = Rgb565>>(
+            &mut self,
+            area: &Rectangle,
+            colors: I,
+        ) -> Result<(), Self::Error> {
             self.fills += 1;
             for (p, c) in area.points().zip(colors) {
                 self.put(p, c);
@@ -313,7 +334,10 @@ mod tests {
         assert_eq!(h.finish(), recorded("fixed32", "rgb565-bayer4"));
         // The label: white pixels right of the image, black margins above
         // and below the image.
-        let white = (IMAGE_WIDTH..PANEL_WIDTH).flat_map(|x| (0..PANEL_HEIGHT).map(move |y| (x, y))).filter(|&(x, y)| panel.at(x, y) == Rgb565::WHITE).count();
+        let white = (IMAGE_WIDTH..PANEL_WIDTH)
+            .flat_map(|x| (0..PANEL_HEIGHT).map(move |y| (x, y)))
+            .filter(|&(x, y)| panel.at(x, y) == Rgb565::WHITE)
+            .count();
         assert!(white > 200, "label pixels: {white}");
         assert_eq!(panel.at(0, 0), Rgb565::BLACK);
         assert_eq!(panel.at(IMAGE_WIDTH - 1, PANEL_HEIGHT - 1), Rgb565::BLACK);
@@ -326,7 +350,11 @@ mod tests {
         for (i, line) in ["raypack", "fixed32", "12.345 s", "65678", "~{|}?"].iter().enumerate() {
             let at = Point::new(3 + 7 * i as i32, 2 + 11 * i as i32);
             draw_text(&mut ours, line, at, Rgb565::WHITE, Rgb565::BLACK).unwrap();
-            let style = embedded_graphics::mono_font::MonoTextStyleBuilder::new().font(&FONT_6X10).text_color(Rgb565::WHITE).background_color(Rgb565::BLACK).build();
+            let style = embedded_graphics::mono_font::MonoTextStyleBuilder::new()
+                .font(&FONT_6X10)
+                .text_color(Rgb565::WHITE)
+                .background_color(Rgb565::BLACK)
+                .build();
             Text::with_baseline(line, at, style, Baseline::Top).draw(&mut theirs).unwrap();
         }
         assert!(ours.pixels == theirs.pixels);

@@ -171,7 +171,10 @@ mod tests {
     }
 
     /// The Pico's panel, as the Pico sets it up, on a recording wire.
-    fn panel(wire: &Rc<RefCell<Wire>>) -> impl embedded_graphics::draw_target::DrawTarget<Color = embedded_graphics::pixelcolor::Rgb565> + OriginDimensions {
+    fn panel(
+        wire: &Rc<RefCell<Wire>>,
+    ) -> impl embedded_graphics::draw_target::DrawTarget<Color = embedded_graphics::pixelcolor::Rgb565> + OriginDimensions
+    {
         let link: PanelSpi<_, _, 64> = PanelSpi::new(Bus(wire.clone()), Dc(wire.clone()));
         Builder::new(ST7789, link)
             .display_size(PANEL_HEIGHT as u16, PANEL_WIDTH as u16)
@@ -227,7 +230,8 @@ mod tests {
         let mut display = panel(&wire);
         let mut scene = Box::new(SceneSlot::new());
         let mut band = vec![[0u8; 3]; IMAGE_WIDTH as usize * 8];
-        let frame = show_frame::<Fixed32, 1, _>(&mut display, &mut Counter(0), "fixed32", &mut scene, &mut band).unwrap();
+        let frame =
+            show_frame::<Fixed32, 1, _>(&mut display, &mut Counter(0), "fixed32", &mut scene, &mut band).unwrap();
         assert_eq!(frame.micros, 7);
         // The clear: the whole panel in repeated-pixel batches.
         let w = wire.borrow();
@@ -303,6 +307,12 @@ mod tests {
         link.send_pixels([[1u8, 2, 3, 4, 5, 6]]).unwrap();
         link.send_repeated_pixel([7u8; 6], 2).unwrap();
         let w = wire.borrow();
-        assert_eq!(w.commands, vec![(RAMWR, vec![1, 2, 3, 4, 5, 6, 9, 8, 9, 8, 9, 8, 1, 2, 3, 4, 5, 6, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7])]);
+        assert_eq!(
+            w.commands,
+            vec![(
+                RAMWR,
+                vec![1, 2, 3, 4, 5, 6, 9, 8, 9, 8, 9, 8, 1, 2, 3, 4, 5, 6, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7]
+            )]
+        );
     }
 }

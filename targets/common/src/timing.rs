@@ -153,7 +153,11 @@ pub const fn calibration_tolerance(rate: TickRate) -> u64 {
 pub fn calibrate<C: Clock>(clock: &mut C) -> Calibration {
     let rate = clock.rate();
     let ((), ticks) = measure(clock, || busy_loop(CALIBRATION_ITERATIONS));
-    Calibration { measured: rate.instructions(ticks), expected: CALIBRATION_INSTRUCTIONS, tolerance: calibration_tolerance(rate) }
+    Calibration {
+        measured: rate.instructions(ticks),
+        expected: CALIBRATION_INSTRUCTIONS,
+        tolerance: calibration_tolerance(rate),
+    }
 }
 
 /// `n` iterations (at least 1) of a 2-instruction loop.
@@ -314,7 +318,8 @@ pub mod mtime {
             loop {
                 // SAFETY: the CLINT's `mtime` registers, always mapped on
                 // QEMU's `virt` machine; reading has no side effect.
-                let (hi, lo, hi2) = unsafe { (read_volatile(MTIME_HI), read_volatile(MTIME_LO), read_volatile(MTIME_HI)) };
+                let (hi, lo, hi2) =
+                    unsafe { (read_volatile(MTIME_HI), read_volatile(MTIME_LO), read_volatile(MTIME_HI)) };
                 // A carry into the high word between the reads: read again.
                 if hi == hi2 {
                     return ((hi as u64) << 32) | lo as u64;
@@ -396,7 +401,8 @@ mod tests {
         let r = TickRate::from_hz(16_000_000);
         let t = calibration_tolerance(r);
         assert_eq!(t, 2 * 63 + 200);
-        let c = Calibration { measured: CALIBRATION_INSTRUCTIONS + t, expected: CALIBRATION_INSTRUCTIONS, tolerance: t };
+        let c =
+            Calibration { measured: CALIBRATION_INSTRUCTIONS + t, expected: CALIBRATION_INSTRUCTIONS, tolerance: t };
         assert!(c.ok());
         assert!(!Calibration { measured: CALIBRATION_INSTRUCTIONS / 2, ..c }.ok());
         // A clock running in real time instead of instructions (no -icount)

@@ -1,7 +1,7 @@
 //! raypack on a Raspberry Pi Pico (RP2040: two Cortex-M0+ cores, no FPU)
 //! driving a Pimoroni Pico Display Pack (1.14" 240×135 IPS, ST7789, SPI):
 //! the demo scene rendered band by band straight into the panel, no
-//! framebuffer, on both cores (`raypack_firmware_common::dual`: bands of 8
+//! framebuffer, on both cores (`raypack_firmware_common::dual`: bands of 4
 //! rows alternate between the cores, each core renders into its own band
 //! buffer, core 0 sends every band to the panel in image order), then the
 //! frame time, from the RP2040's microsecond timer, beside the image.
@@ -52,7 +52,8 @@ const WIDTH: usize = 1;
 const XOSC_HZ: u32 = 12_000_000;
 /// System clock: 133 MHz, the RP2040's rated maximum (12 MHz × 133 /
 /// (6 × 2) from a 1596 MHz VCO, as the Pico SDK sets it).
-const PLL_SYS_133MHZ: PLLConfig = PLLConfig { vco_freq: rp2040_hal::fugit::HertzU32::MHz(1596), refdiv: 1, post_div1: 6, post_div2: 2 };
+const PLL_SYS_133MHZ: PLLConfig =
+    PLLConfig { vco_freq: rp2040_hal::fugit::HertzU32::MHz(1596), refdiv: 1, post_div1: 6, post_div2: 2 };
 /// SPI clock to the panel (the ST7789's write cycle allows 62.5 MHz; the
 /// RP2040 divides clk_peri = 133 MHz by an even number: 33.25 MHz here).
 const SPI_HZ: u32 = 40_000_000;
@@ -84,7 +85,7 @@ type MosiPin = Pin<bank0::Gpio19, FunctionSpi, PullNone>;
 pub static BOOT2_FIRMWARE: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 
 static mut SCENE: fw::SceneSlot = fw::SceneSlot::new();
-/// Core 0's band buffer: 8 rows of 160 pixels (3 840 bytes), one SPI
+/// Core 0's band buffer: 4 rows of 160 pixels (1 920 bytes), one SPI
 /// address window and pixel burst per band.
 static mut BAND0: [Rgb8; BAND_PIXELS] = [[0; 3]; BAND_PIXELS];
 /// Core 1's band buffer: written by core 1 between hand-overs, read by
@@ -198,8 +199,10 @@ fn init_clocks(
     let xosc = setup_xosc_blocking(xosc, XOSC_HZ.Hz()).map_err(InitError::XoscErr)?;
     watchdog.enable_tick_generation((XOSC_HZ / 1_000_000) as u8);
     let mut clocks = ClocksManager::new(clocks);
-    let pll_sys = setup_pll_blocking(pll_sys, xosc.operating_frequency(), PLL_SYS_133MHZ, &mut clocks, resets).map_err(InitError::PllError)?;
-    let pll_usb = setup_pll_blocking(pll_usb, xosc.operating_frequency(), PLL_USB_48MHZ, &mut clocks, resets).map_err(InitError::PllError)?;
+    let pll_sys = setup_pll_blocking(pll_sys, xosc.operating_frequency(), PLL_SYS_133MHZ, &mut clocks, resets)
+        .map_err(InitError::PllError)?;
+    let pll_usb = setup_pll_blocking(pll_usb, xosc.operating_frequency(), PLL_USB_48MHZ, &mut clocks, resets)
+        .map_err(InitError::PllError)?;
     clocks.init_default(&xosc, &pll_sys, &pll_usb).map_err(InitError::ClockError)?;
     Ok(clocks)
 }
@@ -225,7 +228,12 @@ fn run(mut pac: pac::Peripherals) -> bool {
         return false;
     }
 
-    let spi = Spi::<_, _, _, 8>::new(pac.SPI0, (mosi, sck)).init(&mut pac.RESETS, clocks.peripheral_clock.freq(), SPI_HZ.Hz(), embedded_hal::spi::MODE_0);
+    let spi = Spi::<_, _, _, 8>::new(pac.SPI0, (mosi, sck)).init(
+        &mut pac.RESETS,
+        clocks.peripheral_clock.freq(),
+        SPI_HZ.Hz(),
+        embedded_hal::spi::MODE_0,
+    );
     // (Setting a GPIO cannot fail on the RP2040: the error is `Infallible`.)
     let spi = match ExclusiveDevice::new_no_delay(spi, cs) {
         Ok(spi) => spi,
@@ -334,7 +342,9 @@ unsafe fn led_on() {
     unsafe {
         // Take IO_BANK0 and PADS_BANK0 out of reset (atomic clear alias).
         core::ptr::write_volatile((0x4000_C000 + 0x3000) as *mut u32, (1 << 5) | (1 << 8));
-        while core::ptr::read_volatile((0x4000_C000 + 0x8) as *const u32) & ((1 << 5) | (1 << 8)) != ((1 << 5) | (1 << 8)) {}
+        while core::ptr::read_volatile((0x4000_C000 + 0x8) as *const u32) & ((1 << 5) | (1 << 8))
+            != ((1 << 5) | (1 << 8))
+        {}
         core::ptr::write_volatile((0x4001_4000 + 8 * pin + 4) as *mut u32, 5); // FUNCSEL = SIO
         core::ptr::write_volatile(0xD000_0024 as *mut u32, 1 << pin); // GPIO_OE_SET
         core::ptr::write_volatile(0xD000_0014 as *mut u32, 1 << pin); // GPIO_OUT_SET
