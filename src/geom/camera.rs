@@ -290,7 +290,9 @@ impl<S: Scalar> Camera<S> {
         let one = Lanes::splat(S::ONE);
         let sx = (u - one) * self.sx_scale;
         let sy = (one - v) * self.sy_scale;
-        let dir = self.forward.splat::<W>() + self.right.splat::<W>().scale(sx) + self.up.splat::<W>().scale(sy);
+        // forward + right·sx + up·sy, left to right (in fixed point without
+        // the products of zero components, the same bits).
+        let dir = self.forward.splat::<W>().add_splat_scaled(self.right, sx).add_splat_scaled(self.up, sy);
         let (ray, ok) = RayPacket::new(self.eye.splat(), dir);
         (ray, ok & Mask::from_array(inside))
     }

@@ -255,6 +255,19 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
             self.x * v.x + self.y * v.y + self.z * v.z
         }
     }
+    /// The scalar vector `v` times every lane of `s`, added to `self`:
+    /// `self + v·s`. Where [`Scalar::SPARSE_PRODUCTS`] holds, `v`'s zero
+    /// components add nothing (`p + 0 = p` and `0·s = 0` exactly), so they
+    /// are left out, bit for bit the same.
+    #[inline(always)]
+    pub fn add_splat_scaled(self, v: Vec3<S>, s: Lanes<S, W>) -> Self {
+        if S::SPARSE_PRODUCTS {
+            let term = |acc: Lanes<S, W>, c: S| if c != S::ZERO { acc + Lanes::splat(c) * s } else { acc };
+            Vec3::new(term(self.x, v.x), term(self.y, v.y), term(self.z, v.z))
+        } else {
+            self + v.splat::<W>().scale(s)
+        }
+    }
 }
 
 #[cfg(test)]
