@@ -255,6 +255,44 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
             self.x * v.x + self.y * v.y + self.z * v.z
         }
     }
+    /// [`Vec3::dot`] lane by lane, leaving out (where
+    /// [`Scalar::SPARSE_PRODUCTS`] holds) the terms of components that are
+    /// zero in every lane of `self`: they are exactly zero and add nothing
+    /// (`0 + p = p`), so the sum is the same, bit for bit. For normals,
+    /// which are often axis-aligned (floors, walls, box faces): one compare
+    /// instead of a product.
+    #[inline(always)]
+    pub fn dot_sparse(self, o: Self) -> Lanes<S, W> {
+        if S::SPARSE_PRODUCTS {
+            let zero = Lanes::zero();
+            let (zx, zy, zz) =
+                (self.x.eq_lanes(zero).all(), self.y.eq_lanes(zero).all(), self.z.eq_lanes(zero).all());
+            // Left to right, as `dot` adds.
+            let mut sum = if zx { zero } else { self.x * o.x };
+            if !zy {
+                sum = sum + self.y * o.y;
+            }
+            if !zz {
+                sum = sum + self.z * o.z;
+            }
+            sum
+        } else {
+            self.dot(o)
+        }
+    }
+    /// [`Vec3::scale`] lane by lane, a component that is zero in every lane
+    /// staying zero without its products where [`Scalar::SPARSE_PRODUCTS`]
+    /// holds (`0·s = 0` exactly: the same bits).
+    #[inline(always)]
+    pub fn scale_sparse(self, s: Lanes<S, W>) -> Self {
+        if S::SPARSE_PRODUCTS {
+            let zero = Lanes::zero();
+            let c = |v: Lanes<S, W>| if v.eq_lanes(zero).all() { zero } else { v * s };
+            Vec3::new(c(self.x), c(self.y), c(self.z))
+        } else {
+            self.scale(s)
+        }
+    }
     /// The scalar vector `v` times every lane of `s`, added to `self`:
     /// `self + v·s`. Where [`Scalar::SPARSE_PRODUCTS`] holds, `v`'s zero
     /// components add nothing (`p + 0 = p` and `0·s = 0` exactly), so they

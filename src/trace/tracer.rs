@@ -443,7 +443,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let mut local = mat.color.scale(mat.ka);
         let view = -ray.dir;
         let eps = offset_scale(&surf.point);
-        let shadow_origin = surf.point + surf.geometric.scale(eps);
+        let shadow_origin = surf.point + surf.geometric.scale_sparse(eps);
         let lights = self.scene.lights();
         // The geometric normal is the shading one except on patches; where
         // every lane's are equal, so are their products with a light's
@@ -454,8 +454,10 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             // Direction and distance to the light.
             let to_light = light.position.splat::<W>() - surf.point;
             let (l_dir, dist, ok) = to_light.normalize_with_length();
-            let n_dot_l = surf.shading.dot(l_dir);
-            let g_dot_l = if flat { n_dot_l } else { surf.geometric.dot(l_dir) };
+            // (Normals are often axis-aligned: `*_sparse` skips their
+            // zero components' products in fixed point, the same bits.)
+            let n_dot_l = surf.shading.dot_sparse(l_dir);
+            let g_dot_l = if flat { n_dot_l } else { surf.geometric.dot_sparse(l_dir) };
             // Only lights on the lit side of both the geometric and the shading surface.
             let lit = hit.mask & ok & n_dot_l.gt(zero) & g_dot_l.gt(zero);
             if lit.none() {
@@ -478,7 +480,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             // the lanes with a specular coefficient.
             let shiny = lit & mat.ks.ne_lanes(zero);
             let spec = if shiny.any() {
-                let r = surf.shading.scale(n_dot_l * S::TWO) - l_dir;
+                let r = surf.shading.scale_sparse(n_dot_l * S::TWO) - l_dir;
                 let r_dot_v = r.dot(view);
                 // The highlight as lane code: the power of every lane at once
                 // (a branch-free `powf`), kept where it applies.
@@ -520,7 +522,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let d = p.ray.dir;
         let n = surf.shading;
         // cos θi = −d·N (N faces the ray).
-        let cos_i = -(d.dot(n));
+        let cos_i = -(n.dot_sparse(d));
         // Relative index η = n₁/n₂: entering goes from outside (1) into the material.
         let ior = mat.ior;
         let has_t = hit.mask & mat.kt.gt(zero);
@@ -536,11 +538,11 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let refr = has_t.and_not(tir) & w_refr.gt(min_w);
 
         let eps = offset_scale(&surf.point);
-        let off = surf.geometric.scale(eps);
+        let off = surf.geometric.scale_sparse(eps);
         // Refracted: T = η d + (η cos θi − √k) N, leaving from the far side.
         if refr.any() {
             let sq = Lanes::select(refr, k, zero).sqrt();
-            let t_dir = d.scale(eta) + n.scale(eta * cos_i - sq);
+            let t_dir = d.scale(eta) + n.scale_sparse(eta * cos_i - sq);
             let (t_dir, ok) = t_dir.normalize();
             let _ = stack.push(Pending {
                 ray: RayPacket { origin: surf.point - off, dir: t_dir },
@@ -552,7 +554,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         }
         // Reflected: R = d + 2 cos θi N, leaving from the near side.
         if refl.any() {
-            let r_dir = d + n.scale(cos_i * S::TWO);
+            let r_dir = d + n.scale_sparse(cos_i * S::TWO);
             let (r_dir, ok) = r_dir.normalize();
             let _ = stack.push(Pending {
                 ray: RayPacket { origin: surf.point + off, dir: r_dir },
