@@ -192,6 +192,21 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// bit for bit. Meaningless in the lanes the mask clears.
     #[inline(always)]
     pub fn normalize_with_length(self) -> (Self, Lanes<S, W>, Mask<W>) {
+        self.normalize_impl::<false>()
+    }
+    /// [`Vec3xW::normalize`] for vectors that are often axis-aligned (the
+    /// normals of planes, polygons and boxes): the squares and products of
+    /// components zero in every lane are left out where
+    /// [`Scalar::SPARSE_PRODUCTS`] holds ([`Vec3xW::dot_sparse`]); the same
+    /// bits.
+    #[inline(always)]
+    pub fn normalize_sparse(self) -> (Self, Mask<W>) {
+        let (n, _, ok) = self.normalize_impl::<true>();
+        (n, ok)
+    }
+    /// The normalisation, with or without the sparse products.
+    #[inline(always)]
+    fn normalize_impl<const SPARSE: bool>(self) -> (Self, Lanes<S, W>, Mask<W>) {
         // Fixed point: the largest component brought near 1 first, exactly
         // (see `Scalar::NORMALIZE_PRESCALE`).
         let (v, k) = if S::NORMALIZE_PRESCALE {
@@ -201,10 +216,10 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
         } else {
             (self, [0; W])
         };
-        let len = v.length_squared().sqrt();
+        let len = if SPARSE { v.dot_sparse(v) } else { v.length_squared() }.sqrt();
         let ok = len.gt(Lanes::zero()) & len.finite();
         let inv = Lanes::splat(S::ONE).div_nonzero(Lanes::select(ok, len, Lanes::splat(S::ZERO)));
-        let n = v.scale(inv);
+        let n = if SPARSE { v.scale_sparse(inv) } else { v.scale(inv) };
         let length = if S::NORMALIZE_PRESCALE { len.mul_pow2(k.map(|k| -k)) } else { len };
         (Self::select(ok, n, Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero())), length, ok)
     }

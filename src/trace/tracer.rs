@@ -295,7 +295,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             remaining = remaining.and_not(same);
             let Some(p) = prims.get(k as usize) else { continue };
             // Unit geometric normal (zero where it has no length).
-            let (g, _) = p.shape.normals(&point).normalize();
+            let (g, _) = p.shape.normals(&point).normalize_sparse();
             ng = Vec3xW::select(same, g, ng);
             // Shading normal: the geometric one, except on patches, whose
             // interpolation runs per lane (rare, and branchy by nature).
@@ -304,7 +304,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             mat.splat(same, &self.scene.material_of(k));
         }
         // Turn both normals to face the ray (visibility is two-sided).
-        let cos = ray.dir.dot(ng);
+        let cos = ng.dot_sparse(ray.dir);
         let entering = cos.le(Lanes::zero());
         let flip = !entering;
         let surf = SurfacePacket {
