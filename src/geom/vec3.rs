@@ -308,6 +308,18 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
             self.scale(s)
         }
     }
+    /// [`Vec3::scale`] lane by lane, but `self` itself where every lane of
+    /// `s` is exactly one (`x·1 = x` in every scalar: the same bits) and
+    /// [`Scalar::SPARSE_PRODUCTS`] says a compare is cheaper than a
+    /// product: the weights of camera rays on opaque surfaces.
+    #[inline(always)]
+    pub fn scale_unless_one(self, s: Lanes<S, W>) -> Self {
+        if S::SPARSE_PRODUCTS && s.eq_lanes(Lanes::splat(S::ONE)).all() {
+            self
+        } else {
+            self.scale(s)
+        }
+    }
     /// The scalar vector `v` times every lane of `s`, added to `self`:
     /// `self + v·s`. Where [`Scalar::SPARSE_PRODUCTS`] holds, `v`'s zero
     /// components add nothing (`p + 0 = p` and `0·s = 0` exactly), so they

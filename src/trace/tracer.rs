@@ -413,7 +413,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             // Local light, weighted by (1 − Kt) in Whitted mode.
             let w_local = if whitted { p.weight * (Lanes::splat(S::ONE) - mat.kt) } else { p.weight };
             let w_local = Lanes::select(hit.mask, w_local, zero);
-            color = color + local.scale(w_local);
+            color = color + local.scale_unless_one(w_local);
 
             if !whitted || p.depth >= self.settings.max_depth {
                 continue;
