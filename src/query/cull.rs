@@ -643,7 +643,9 @@ impl<S: Scalar> ShadowCull<S> {
             let b = oc.dot(ray.dir);
             let oc2 = oc.dot(oc);
             let bb = b * b;
-            let r2 = Lanes::splat(e.r2) + oc2 * slack;
+            // (The slack as a shift in fixed point, where a product is a
+            // routine; a product by the constant in floating point.)
+            let r2 = Lanes::splat(e.r2) + if S::SPARSE_PRODUCTS { oc2.mul_pow2([-10; W]) } else { oc2 * slack };
             // Outside the line's reach, or wholly behind the origin.
             let missed = (oc2 - bb).gt(r2) | (b.lt(zero) & bb.gt(r2));
             if active.and_not(near & missed).any() {
