@@ -280,8 +280,7 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     pub fn dot_sparse(self, o: Self) -> Lanes<S, W> {
         if S::SPARSE_PRODUCTS {
             let zero = Lanes::zero();
-            let (zx, zy, zz) =
-                (self.x.eq_lanes(zero).all(), self.y.eq_lanes(zero).all(), self.z.eq_lanes(zero).all());
+            let (zx, zy, zz) = (self.x.eq_lanes(zero).all(), self.y.eq_lanes(zero).all(), self.z.eq_lanes(zero).all());
             // Left to right, as `dot` adds.
             let mut sum = if zx { zero } else { self.x * o.x };
             if !zy {

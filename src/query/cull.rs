@@ -448,7 +448,12 @@ const REACH_RANGE: f32 = 4.0;
 /// limited range ([`REACH_RANGE`]), where the squares would not fit.
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowCull<S> {
+    /// Per light, the entries of the primitives that are not always
+    /// tested, packed at the front (`tested` of them) so that a shadow ray
+    /// visits only those; `index` holds each entry's primitive.
     occluders: [[Occluder<S>; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
+    index: [[u8; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
+    tested: [u8; SHADOW_LIGHTS],
     /// Per light, the primitives always tested (bit `k`, below `len`).
     always: [Candidates; SHADOW_LIGHTS],
     lights: usize,
@@ -467,6 +472,8 @@ impl<S: Scalar> ShadowCull<S> {
     pub fn empty() -> Self {
         ShadowCull {
             occluders: [[Occluder::NONE; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
+            index: [[0; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
+            tested: [0; SHADOW_LIGHTS],
             always: [ALL; SHADOW_LIGHTS],
             lights: 0,
             len: 0,
@@ -511,15 +518,28 @@ impl<S: Scalar> ShadowCull<S> {
         if !grow.is_finite() {
             return Ok(());
         }
-        for ((row, always), l) in self.occluders.iter_mut().zip(self.always.iter_mut()).zip(scene.lights()) {
+        let rows = self
+            .occluders
+            .iter_mut()
+            .zip(self.index.iter_mut())
+            .zip(self.always.iter_mut().zip(self.tested.iter_mut()));
+        for (((row, index), (always, tested)), l) in rows.zip(scene.lights()) {
             let lp = l.position.to_f32();
             *always = 0;
-            for (k, (slot, p)) in row.iter_mut().zip(prims).enumerate() {
+            let mut n = 0;
+            for (k, p) in prims.iter().enumerate().take(SHADOW_OCCLUDERS) {
                 match bounds_f32(&p.shape, pool).and_then(|(lo, hi)| cone(lp, lo, hi, grow)) {
-                    Some(o) => *slot = o,
+                    Some(o) => {
+                        if let (Some(slot), Some(ix)) = (row.get_mut(n), index.get_mut(n)) {
+                            *slot = o;
+                            *ix = k as u8;
+                        }
+                        n += 1;
+                    }
                     None => *always |= 1 << k,
                 }
             }
+            *tested = n as u8;
         }
         self.lights = scene.lights().len().min(SHADOW_LIGHTS);
         // Reflected and refracted rays: the bounds' spheres, grown by the
@@ -562,8 +582,11 @@ impl<S: Scalar> ShadowCull<S> {
 
     /// The primitives the shadow rays towards light `light` with unit
     /// directions `dir`, leaving hit points of offset scale `eps`, in the
-    /// lanes `lit`, can reach.
+    /// lanes `lit`, can reach. (Out of line on small cores, like
+    /// [`ShadowCull::reach_candidates`]'s test: its frame is gone before
+    /// the shadow rays are traced.)
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    #[cfg_attr(not(any(target_arch = "x86", target_arch = "x86_64")), inline(never))]
     pub fn candidates<const W: usize>(
         &self,
         light: usize,
@@ -578,8 +601,8 @@ impl<S: Scalar> ShadowCull<S> {
         }
         let always = self.always.get(light).copied().unwrap_or(ALL);
         let mut m = !low_bits(self.len) | always;
-        for k in candidate_indices(!always, self.len) {
-            let Some(o) = row.get(k) else { break };
+        let (Some(index), Some(&n)) = (self.index.get(light), self.tested.get(light)) else { return ALL };
+        for (o, &k) in row.iter().zip(index).take(n as usize) {
             // The box of directions first (comparisons only, one axis at a
             // time: most occluders are left behind by the first), then the
             // cone for the lanes inside it.
