@@ -746,6 +746,43 @@ fn div_raw(a: i32, b: i32) -> i32 {
     div_raw_with(a, b, div_words)
 }
 
+/// [`ratio_raw`] with this target's two-word division, out of line (rare:
+/// coordinates of images wider than 65 535 pixels).
+#[inline(never)]
+fn ratio_wide(num: u32, den: u32) -> i32 {
+    ratio_raw(num, den, div_words)
+}
+
+/// `round(num·2^FRAC/den)` (ties up), saturating at `RAW_MAX`; `den = 0`
+/// gives `RAW_MAX`. `words` is the two-word division, as for
+/// [`div_raw_with`].
+///
+/// Why this route: it is the same normalised two-word division as `div`,
+/// so no target links the 64-bit library division (a long loop on 32-bit
+/// cores, and about 1 KB of flash) for it.
+#[inline(always)]
+fn ratio_raw(num: u32, den: u32, words: impl Fn(u32, u32, u32) -> (u32, u32)) -> i32 {
+    if den == 0 {
+        return RAW_MAX;
+    }
+    // round(num·2^FRAC/den) = ⌊M/den⌋ with M = num·2^FRAC + ⌊den/2⌋, as two
+    // words (below 2^(32+FRAC) + 2³¹: no carry out of the high word).
+    let lo = num << FRAC;
+    let (m0, carry) = lo.overflowing_add(den >> 1);
+    let m1 = (num >> (32 - FRAC)) + carry as u32;
+    // Saturation, exactly: M ≥ 2³¹·den iff ⌊M/2³¹⌋ ≥ den (den integral).
+    if (m1 << 1) | (m0 >> 31) >= den {
+        return RAW_MAX;
+    }
+    // Normalise: d = den·2^s ∈ [2³¹, 2³²); M·2^s's high word is below d
+    // (M < 2³¹·den), so the quotient is below 2³¹ and is ⌊M/den⌋.
+    let s = clz(den);
+    let d = den << s;
+    let (u1, u0) = if s == 0 { (m1, m0) } else { ((m1 << s) | (m0 >> (32 - s)), m0 << s) };
+    let (q, _) = words(u1, u0, d);
+    q as i32
+}
+
 // ---------------------------------------------------------------------------
 // Square root.
 
@@ -1156,9 +1193,7 @@ impl Scalar for Fixed32 {
             let q = ((q1 as u64) << 16) + q0 as u64;
             return Fixed32(q.min(RAW_MAX as u64) as i32);
         }
-        let (n, d) = ((num as u64) << FRAC, den as u64);
-        let q = (n + d / 2) / d;
-        Fixed32(q.min(RAW_MAX as u64) as i32)
+        Fixed32(ratio_wide(num, den))
     }
 
     /// [`Fixed32::ratio`] from the divisor's reciprocal where it has one
@@ -1300,7 +1335,7 @@ mod tests {
     }
 
     #[test]
-    fn ratio_by_two_short_divisions_is_the_rounded_quotient() {
+    fn ratio_is_the_rounded_quotient() {
         // Against the 64-bit formula: every numerator for small
         // denominators, then image-sized ones, and the 2¹⁶ boundary.
         let want = |num: u32, den: u32| {
@@ -1321,6 +1356,28 @@ mod tests {
         for (num, den) in [(0xFFFF, 1), (0xFFFF, 0xFFFF), (0x1_0000, 3), (5, 0x1_0000), (u32::MAX, 7)] {
             assert_eq!(Fixed32::ratio(num, den).to_bits(), want(num, den), "{num}/{den}");
         }
+        // Any 32-bit pair (saturated or not), around the saturation edge
+        // num ≈ 2⁷·den, and with every two-word division of the targets.
+        let mut rng = Rng(0x5eed_0f7a_7100_0002);
+        for k in 0..300_000u32 {
+            let den = match k % 3 {
+                0 => rng.u32().max(1),
+                1 => 1 + rng.u32() % 0xFFFF,
+                _ => (rng.u32() >> (rng.u32() % 32)).max(1),
+            };
+            let num = match k % 4 {
+                0 => rng.u32(),
+                1 => rng.u32() % (1 << 16),
+                2 => den.saturating_mul(128).wrapping_add(rng.u32() % 5).wrapping_sub(2),
+                _ => den.saturating_mul(128).saturating_sub(1 + (rng.u32() & 1)),
+            };
+            let w = want(num, den);
+            assert_eq!(Fixed32::ratio(num, den).to_bits(), w, "{num}/{den}");
+            assert_eq!(ratio_raw(num, den, div_words_native), w, "native {num}/{den}");
+            assert_eq!(ratio_raw(num, den, div_words_hw32), w, "hw32 {num}/{den}");
+            assert_eq!(ratio_raw(num, den, div_words_reciprocal), w, "reciprocal {num}/{den}");
+        }
+        assert_eq!(Fixed32::ratio(5, 0).to_bits(), RAW_MAX);
     }
 
     #[test]

@@ -160,16 +160,18 @@ pub(crate) fn transmittance_among<S: Scalar, const W: usize>(
     trans
 }
 
-/// [`Shape::roots`] for the query loops. On RV32, in fixed point and in
-/// soft float, the kernels of oriented boxes, quadrics and cones are one
-/// out-of-line copy per scalar and width ([`roots_apart`]) shared by both
-/// loops, not one inlined into each: every fixed-point product is inline
-/// code and every soft-float operation a call, so the copies are large.
-/// The `riscv-virt` image is about 17 KB smaller for it and neither frame
-/// slower (`scripts/firmware.sh`: with the `f32` kernels out of line too,
-/// `f32` retires 574.8 M instructions against 576.2 M). Elsewhere every kernel stays where it was: on the host and the
-/// Cortex-M4/M55 speed comes first, and on Armv6-M [`Shape::roots`] is out
-/// of line already.
+/// [`Shape::roots`] for the query loops. On RV32 the kernels of oriented
+/// boxes, quadrics and cones (and, in soft float, of polygons and
+/// axis-aligned boxes too) are one out-of-line copy per scalar and width
+/// ([`roots_apart`]) shared by both loops, not one inlined into each: every
+/// fixed-point product is inline code and every soft-float operation a
+/// call, so the copies are large, and the 128 KiB test image holds both
+/// scalars. Neither frame is slower for it (`scripts/firmware.sh`: with
+/// polygons and boxes out of line too, soft-float `f32` retires 537.9 M
+/// instructions against 539.5 M, and the image is 128 776 bytes of
+/// `.text` against 132 600). Elsewhere every kernel stays where it was: on
+/// the host and the Cortex-M4/M55 speed comes first, and on Armv6-M
+/// [`Shape::roots`] is out of line already.
 #[inline(always)]
 fn roots<S: Scalar, const W: usize>(
     shape: &Shape<S>,
@@ -183,7 +185,8 @@ fn roots<S: Scalar, const W: usize>(
     const SOFT_FLOAT: bool = cfg!(not(target_feature = "f"));
     if RV32
         && (S::LIMITED_RANGE || SOFT_FLOAT)
-        && matches!(shape, Shape::OrientedBox(_) | Shape::Quadric(_) | Shape::Cone(_))
+        && (matches!(shape, Shape::OrientedBox(_) | Shape::Quadric(_) | Shape::Cone(_))
+            || SOFT_FLOAT && !S::LIMITED_RANGE && matches!(shape, Shape::Polygon(_) | Shape::AaBox(_)))
     {
         return roots_apart(shape, pool, ray, t_min, t_max, active);
     }

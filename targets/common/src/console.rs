@@ -32,15 +32,31 @@ pub trait Console {
 /// would be the largest formatting routine in a small image).
 const DIGITS: [&str; 16] = ["0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "a", "b", "c", "d", "e", "f"];
 
+/// `(⌊v/10⌋, v mod 10)` by long division in base 2¹⁶: four 32-bit
+/// divisions by a constant, so that no image links the 64-bit library
+/// division (about 1 KB of flash) for printing counts.
+fn div10(v: u64) -> (u64, u32) {
+    let mut q = 0u64;
+    let mut r = 0u32;
+    for k in (0..4).rev() {
+        // r < 10, so the partial dividend stays below 10·2¹⁶.
+        let cur = (r << 16) | ((v >> (16 * k)) as u32 & 0xFFFF);
+        q |= ((cur / 10) as u64) << (16 * k);
+        r = cur % 10;
+    }
+    (q, r)
+}
+
 /// The decimal digits of `v` (values 0–9), in the tail of `buf`; returns
 /// how many.
 fn decimal_digits(mut v: u64, buf: &mut [u8; 20]) -> usize {
     let mut n = 0;
     // 20 digits hold u64::MAX.
     for d in buf.iter_mut().rev() {
-        *d = (v % 10) as u8;
+        let (q, r) = div10(v);
+        *d = r as u8;
         n += 1;
-        v /= 10;
+        v = q;
         if v == 0 {
             break;
         }
@@ -54,10 +70,11 @@ pub fn format_u64(mut v: u64, buf: &mut [u8; 20]) -> &str {
     loop {
         // 20 digits hold u64::MAX, so `i` never underflows.
         i -= 1;
+        let (q, r) = div10(v);
         if let Some(d) = buf.get_mut(i) {
-            *d = b'0' + (v % 10) as u8;
+            *d = b'0' + r as u8;
         }
-        v /= 10;
+        v = q;
         if v == 0 || i == 0 {
             break;
         }
@@ -90,6 +107,22 @@ mod tests {
         let mut h = [0u8; 10];
         assert_eq!(format_hex32(0x0123_abcd, &mut h), "0x0123abcd");
         assert_eq!(format_hex32(u32::MAX, &mut h), "0xffffffff");
+    }
+
+    #[test]
+    fn div10_is_the_64_bit_division() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        for k in 0..10_000u64 {
+            // A xorshift sequence, its values shifted to every size.
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let v = x >> (k % 64);
+            assert_eq!(div10(v), (v / 10, (v % 10) as u32), "{v}");
+        }
+        for v in [0, 9, 10, 0xFFFF, 0x1_0000, u32::MAX as u64, u64::MAX, u64::MAX - 5] {
+            assert_eq!(div10(v), (v / 10, (v % 10) as u32), "{v}");
+        }
     }
 
     struct Text(std::string::String);
