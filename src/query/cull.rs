@@ -2,7 +2,9 @@
 //! rays ([`ScreenCull`]), the rectangle of pixels whose rays can hit each
 //! primitive, so that a packet of camera rays tests only the primitives
 //! whose rectangle it overlaps; for shadow rays ([`ShadowCull`]), the cone
-//! of directions from each light that reaches each primitive.
+//! of directions from each light that reaches each primitive; for reflected
+//! and refracted rays ([`ShadowCull::reach_candidates`]), each primitive's
+//! grown bounding sphere.
 //!
 //! Exact by construction: a primitive is left out of a packet only where no
 //! ray of that packet can report a crossing with it, so the closest hit (and
@@ -442,10 +444,13 @@ const REACH_RANGE: f32 = 4.0;
 /// squared distance from `C` to the ray's line), no point of the sphere
 /// lies on the ray if `q > R²` (the line passes outside) or `b < −R`
 /// (the sphere is behind the origin); each test has a slack of
-/// `|C − O|²/1024` for the rounding of `d` and of the products. Spheres
-/// and planes are always tested (their kernel is that test or cheaper),
+/// `|C − O|²/1024` for the rounding of `d` and of the products. Before
+/// them, with comparisons only, a ray whose origin lies more than `R`
+/// beyond `C` along an axis and whose direction does not head back along
+/// it misses too. Spheres and planes are always tested (their kernel is that test or cheaper),
 /// and so are lanes whose origin is far from the centre in a scalar of
-/// limited range ([`REACH_RANGE`]), where the squares would not fit.
+/// limited range (more than 4 units along an axis), where the squares would
+/// not fit.
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowCull<S> {
     /// Per light, the entries of the primitives that are not always
