@@ -635,11 +635,8 @@ impl<S: Scalar> ShadowCull<S> {
         // A packet's directions as one box (the lit lanes' extremes), so
         // that an occluder whose box of directions misses it is left with
         // scalar comparisons, not lane ones. (Width 1: the test below is
-        // that already. Not on RISC-V: its vector board's packets got
-        // slower for it, width 4 44.3 M -> 46.0 M instructions, where the
-        // Cortex-M55's got faster, width 4 43.5 M -> 42.8 M.)
-        const PACKET_BOX: bool = !cfg!(any(target_arch = "riscv32", target_arch = "riscv64"));
-        let packet_box = if PACKET_BOX && W > 1 { direction_extremes(dir, lit) } else { None };
+        // that already.)
+        let packet_box = if W > 1 { direction_extremes(dir, lit) } else { None };
         for (o, &k) in row.iter().zip(index).take(n as usize) {
             // The box of directions first (comparisons only, one axis at a
             // time: most occluders are left behind by the first), then the
