@@ -632,21 +632,11 @@ impl<S: Scalar> ShadowCull<S> {
         let always = self.always.get(light).copied().unwrap_or(ALL);
         let mut m = !low_bits(self.len) | always;
         let (Some(index), Some(&n)) = (self.index.get(light), self.tested.get(light)) else { return ALL };
-        // A packet's directions as one box (the lit lanes' extremes), so
-        // that an occluder whose box of directions misses it is left with
-        // scalar comparisons, not lane ones. (Width 1: the test below is
-        // that already.)
-        let packet_box = if W > 1 { direction_extremes(dir, lit) } else { None };
         for (o, &k) in row.iter().zip(index).take(n as usize) {
             // The box of directions first (comparisons only, one axis at a
             // time: most occluders are left behind by the first), then the
             // cone for the lanes inside it.
             let (lo, hi) = (o.dlo, o.dhi);
-            if let Some((plo, phi)) = packet_box {
-                if plo.x > hi.x || phi.x < lo.x || plo.y > hi.y || phi.y < lo.y || plo.z > hi.z || phi.z < lo.z {
-                    continue;
-                }
-            }
             let mut inside = lit & dir.x.ge(Lanes::splat(lo.x)) & dir.x.le(Lanes::splat(hi.x));
             if inside.none() {
                 continue;
@@ -730,30 +720,6 @@ impl<S: Scalar> ShadowCull<S> {
         }
         m
     }
-}
-
-/// The smallest and largest component of `dir` over the lanes of `lit`
-/// (`None` if no lane is lit). A NaN component is left out: the lane test
-/// never finds such a lane inside a box either, so the packet's box still
-/// holds every lane that test could keep.
-#[inline(always)]
-fn direction_extremes<S: Scalar, const W: usize>(dir: &Vec3xW<S, W>, lit: Mask<W>) -> Option<(Vec3<S>, Vec3<S>)> {
-    if lit.none() {
-        return None;
-    }
-    let mut lo = Vec3::new(S::MAX, S::MAX, S::MAX);
-    let mut hi = Vec3::new(-S::MAX, -S::MAX, -S::MAX);
-    // (`a < b`, `a > b`: false for a NaN `a`, which so never enters.)
-    let below = |a: S, b: S| if a < b { a } else { b };
-    let above = |a: S, b: S| if a > b { a } else { b };
-    for l in 0..W {
-        if lit.get(l) {
-            let (x, y, z) = (dir.x.0[l], dir.y.0[l], dir.z.0[l]);
-            lo = Vec3::new(below(x, lo.x), below(y, lo.y), below(z, lo.z));
-            hi = Vec3::new(above(x, hi.x), above(y, hi.y), above(z, hi.z));
-        }
-    }
-    Some((lo, hi))
 }
 
 /// Whether [`ShadowCull`]'s per-packet tests run out of line at packet
@@ -954,19 +920,6 @@ mod tests {
         let d = unit(0.0, 0.5, 1.0);
         assert!(d.dot_splat(o.axis).le(Lanes::splat(o.limit)).all(), "the cone alone keeps it");
         assert_eq!(c.candidates(0, &d, eps, lit) & 1, 0);
-    }
-
-    #[test]
-    fn a_packets_directions_box_holds_its_lit_lanes_only() {
-        let v = |a: [f32; 4]| Lanes(a);
-        let dir = Vec3::new(v([0.5, -0.5, f32::NAN, 0.9]), v([0.1, 0.2, 0.3, -1.0]), v([0.0, 0.0, 0.0, 0.0]));
-        // Lane 3 unlit, lane 2 NaN in x: left out.
-        let lit = Mask::from_array([true, true, true, false]);
-        let (lo, hi) = direction_extremes(&dir, lit).unwrap();
-        assert_eq!((lo.x, hi.x), (-0.5, 0.5));
-        assert_eq!((lo.y, hi.y), (0.1, 0.3));
-        assert_eq!((lo.z, hi.z), (0.0, 0.0));
-        assert!(direction_extremes(&dir, Mask::splat(false)).is_none());
     }
 
     #[test]
