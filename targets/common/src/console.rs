@@ -65,21 +65,14 @@ fn decimal_digits(mut v: u64, buf: &mut [u8; 20]) -> usize {
 }
 
 /// `v` in decimal, in the tail of `buf`.
-pub fn format_u64(mut v: u64, buf: &mut [u8; 20]) -> &str {
-    let mut i = buf.len();
-    loop {
-        // 20 digits hold u64::MAX, so `i` never underflows.
-        i -= 1;
-        let (q, r) = div10(v);
-        if let Some(d) = buf.get_mut(i) {
-            *d = b'0' + r as u8;
-        }
-        v = q;
-        if v == 0 || i == 0 {
-            break;
-        }
+pub fn format_u64(v: u64, buf: &mut [u8; 20]) -> &str {
+    let n = decimal_digits(v, buf);
+    let start = buf.len().saturating_sub(n);
+    for d in buf.iter_mut().skip(start) {
+        // A digit (0–9): no overflow, wrapping only spares the check.
+        *d = d.wrapping_add(b'0');
     }
-    core::str::from_utf8(buf.get(i..).unwrap_or(&[])).unwrap_or("?")
+    core::str::from_utf8(buf.get(start..).unwrap_or(&[])).unwrap_or("?")
 }
 
 /// `v` as `0x` followed by 8 hexadecimal digits.
