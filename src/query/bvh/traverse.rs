@@ -70,11 +70,11 @@ impl<S: Scalar, const W: usize> SlabRays<S, W> {
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn hits(&self, node: &BvhNode<S>, t_min: Lanes<S, W>, t_far: Lanes<S, W>, active: Mask<W>) -> Mask<W> {
         // One loop with each lane's whole test in its body (the same
-        // operations, in the same order, as lane-wise `Lanes` arithmetic).
-        // Written as twenty separate lane operations, the AVX-512 copy of
-        // the closest-hit query compiled 16 lanes as 4 + 8 + 4 (xmm, ymm,
-        // xmm) pieces with spills: balls-2 with packets of 16 ran at 24
-        // instead of 35 M primary rays/s (docs/performance.md).
+        // operations, in the same order, as lane-wise `Lanes` arithmetic),
+        // so that the vectoriser keeps all W lanes in whole registers:
+        // written as twenty separate lane operations, the AVX-512 query
+        // split 16 lanes into 4 + 8 + 4 pieces with spills
+        // (docs/performance.md, "Packets of 16 and the slab test").
         let (o, inv) = (&self.origin, &self.inv_dir);
         let (lo, hi) = (node.min, node.max);
         let (mut near, mut far) = (t_min.0, t_far.0);

@@ -46,10 +46,10 @@ pub struct TickRate {
 
 /// `n / d` and `n % d`, rounded down, by binary long division (one
 /// shift, compare and subtract per quotient bit); `(u64::MAX, n)` for
-/// `d == 0`. The 64-bit `/` and `%` of Armv6-M and RV32 are a library
-/// routine of some 900 bytes of flash (`u64_div_rem`), and these
-/// conversions only run before and after a frame, so the firmware does
-/// without it: a few dozen bytes of loop instead.
+/// `d == 0`. Armv6-M's 64-bit `/` and `%` are a library routine of some
+/// 900 bytes of flash (`u64_div_rem`); these conversions run only around
+/// a frame and its bands, so a loop of 152 bytes does instead (see
+/// `div_rem` for where it is used).
 #[inline(never)]
 pub const fn div_rem_u64(n: u64, d: u64) -> (u64, u64) {
     if d == 0 {
