@@ -224,6 +224,46 @@ fn queries_match_brute_force_bit_for_bit() {
     assert!(total > 1000, "{total}");
 }
 
+/// Packets of 8 and 16 with a few lanes active (the ones traced one ray at
+/// a time) and with many (traced as packets) answer as brute force does,
+/// lane by lane, inactive lanes included.
+#[test]
+fn sparse_and_dense_packets_match_brute_force() {
+    fn packets<const W: usize>(scene: &SceneView<'_, f32>, tree: &BvhView<'_, f32>, rng: &mut Rng) -> usize {
+        let mut hits = 0;
+        for _ in 0..60 {
+            let mut o = Vec3::new(Lanes::splat(0.0f32), Lanes::splat(0.0), Lanes::splat(0.0));
+            let mut d = o;
+            let base = rng.vec(-25.0, 25.0);
+            for l in 0..W {
+                o.set_lane(l, base + rng.vec(-1.0, 1.0));
+                d.set_lane(l, (rng.vec(-10.0, 10.0) - base).normalize_or_zero());
+            }
+            let (ray, ok) = RayPacket::<f32, W>::new(o, d);
+            // 1 to W active lanes, at random places.
+            let live = 1 + (rng.next() % W as u64) as usize;
+            let mut active = Mask::splat(false);
+            for _ in 0..live {
+                active.set((rng.next() % W as u64) as usize, true);
+            }
+            let active = active & ok;
+            let far = rng.range(1.0, 60.0);
+            check::<W>(scene, tree, &ray, active, far, &mut hits);
+        }
+        hits
+    }
+    let mut total = 0;
+    for (seed, n) in [(21u64, 9usize), (22, 120), (23, 256)] {
+        let scene = scattered(seed, n);
+        let mut bvh: Bvh<f32, 256> = Bvh::new();
+        bvh.build(&scene.view()).unwrap();
+        let mut rng = Rng(seed ^ 0x5eed);
+        total += packets::<8>(&scene.view(), &bvh.view(), &mut rng);
+        total += packets::<16>(&scene.view(), &bvh.view(), &mut rng);
+    }
+    assert!(total > 300, "{total}");
+}
+
 #[test]
 fn depth_is_bounded_and_deep_leaves_still_answer() {
     // Spheres growing geometrically along x (factor 2.5): with two bins
