@@ -87,6 +87,8 @@ pub struct Camera<S> {
     units: f32,
 }
 
+crate::num::bake::bake_struct!("raypack::geom::camera::Camera", Camera<S> { eye: Vec3<S>, forward: Vec3<S>, right: Vec3<S>, up: Vec3<S>, width: u32, height: u32, width_div: Divisor, height_div: Divisor, sx_scale: S, sy_scale: S, units: f32 });
+
 impl<S: Scalar> Camera<S> {
     /// A camera at `eye` looking at `look_at`, with `up` (any length, not
     /// parallel to the view direction), vertical field of view `vfov_deg`

@@ -1281,6 +1281,13 @@ impl Scalar for Fixed32 {
     }
 }
 
+impl crate::num::bake::Bake for Fixed32 {
+    /// `raypack::Fixed32::from_bits(…)`: the raw value, exactly.
+    fn bake(&self, w: &mut dyn core::fmt::Write) -> core::fmt::Result {
+        write!(w, "raypack::Fixed32::from_bits({})", self.to_bits())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #[test]

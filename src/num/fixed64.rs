@@ -364,6 +364,13 @@ impl Scalar for Fixed {
     }
 }
 
+impl crate::num::bake::Bake for Fixed {
+    /// `raypack::Fixed::from_bits(…)`: the raw value, exactly.
+    fn bake(&self, w: &mut dyn core::fmt::Write) -> core::fmt::Result {
+        write!(w, "raypack::Fixed::from_bits({})", self.to_bits())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     extern crate std;

@@ -4,6 +4,7 @@
 //! deterministic power function. The bottom layer: it uses nothing else of
 //! the crate.
 
+pub mod bake;
 pub mod fixed32;
 pub mod fixed64;
 pub mod lanes;

@@ -249,6 +249,16 @@ pub struct Divisor {
     recip: u32,
 }
 
+impl crate::num::bake::Bake for Divisor {
+    /// `Divisor::new(den)` or `Divisor::plain(den)`, whichever it is: its
+    /// reciprocal is recomputed (at compile time) rather than written out, so
+    /// a baked divisor is always a consistent one.
+    fn bake(&self, w: &mut dyn core::fmt::Write) -> core::fmt::Result {
+        let how = if *self == Divisor::new(self.den) { "new" } else { "plain" };
+        write!(w, "raypack::num::scalar::Divisor::{how}({})", self.den)
+    }
+}
+
 impl Divisor {
     /// `den` with its reciprocal (none for `0` or from 2¹⁶ on: those
     /// quotients take [`Scalar::ratio`]'s route).

@@ -3,6 +3,7 @@
 //! NFF reader that fills it, and the built-in demo scene. Built on
 //! [`crate::geom`]; how a scene is searched is [`crate::query`]'s business.
 
+pub mod bake;
 pub mod demo;
 pub mod nff;
 mod store;

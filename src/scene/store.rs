@@ -42,6 +42,8 @@ pub struct Material<S> {
     pub ior: S,
 }
 
+crate::num::bake::bake_struct!("raypack::scene::Material", Material<S> { color: Vec3<S>, ka: S, kd: S, ks: S, shine: S, kr: S, kt: S, ior: S });
+
 impl<S: Scalar> Material<S> {
     /// A plain diffuse material of the given colour.
     pub fn diffuse(color: Vec3<S>) -> Self {
@@ -80,6 +82,8 @@ pub struct Light<S> {
     pub color: Vec3<S>,
 }
 
+crate::num::bake::bake_struct!("raypack::scene::Light", Light<S> { position: Vec3<S>, color: Vec3<S> });
+
 /// One primitive of a scene and its material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Primitive<S> {
@@ -88,6 +92,8 @@ pub struct Primitive<S> {
     /// Index into the scene's materials.
     pub material: u16,
 }
+
+crate::num::bake::bake_struct!("raypack::scene::Primitive", Primitive<S> { shape: Shape<S>, material: u16 });
 
 /// Which fixed capacity of a scene was exceeded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -16,6 +16,8 @@ pub struct AaBox<S> {
     max: Vec3<S>,
 }
 
+crate::num::bake::bake_struct!("raypack::geom::primitives::AaBox", AaBox<S> { min: Vec3<S>, max: Vec3<S> });
+
 impl<S: Scalar> AaBox<S> {
     /// The same box in the frame of `sim`, with scalar `T`.
     pub fn similar<T: Scalar>(&self, sim: &Similarity) -> AaBox<T> {

@@ -27,6 +27,8 @@ pub struct Cone<S> {
     slope: S,
 }
 
+crate::num::bake::bake_struct!("raypack::geom::primitives::Cone", Cone<S> { base: Vec3<S>, apex: Vec3<S>, base_radius: S, apex_radius: S, u: Vec3<S>, v: Vec3<S>, w: Vec3<S>, height: S, slope: S });
+
 impl<S: Scalar> Cone<S> {
     /// A cone between two distinct points; radii must be non-negative and not
     /// both zero.

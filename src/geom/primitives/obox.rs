@@ -18,6 +18,8 @@ pub struct OrientedBox<S> {
     w: Vec3<S>,
 }
 
+crate::num::bake::bake_struct!("raypack::geom::primitives::OrientedBox", OrientedBox<S> { center: Vec3<S>, half: Vec3<S>, u: Vec3<S>, v: Vec3<S>, w: Vec3<S> });
+
 impl<S: Scalar> OrientedBox<S> {
     /// A box around `center` with half-extents `half` (along `u`, `v`, `w`).
     /// `u` is normalized, `v` is made orthogonal to `u` and normalized, and

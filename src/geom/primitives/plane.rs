@@ -14,6 +14,8 @@ pub struct Plane<S> {
     d: S,
 }
 
+crate::num::bake::bake_struct!("raypack::geom::primitives::Plane", Plane<S> { normal: Vec3<S>, d: S });
+
 impl<S: Scalar> Plane<S> {
     /// The plane `Ax + By + Cz + D = 0`; `(A, B, C)` must not be zero.
     pub fn from_coefficients(a: S, b: S, c: S, d: S) -> Result<Self, GeometryError> {

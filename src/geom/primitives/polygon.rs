@@ -36,6 +36,8 @@ pub struct Polygon<S> {
     d: S,
 }
 
+crate::num::bake::bake_struct!("raypack::geom::primitives::Polygon", Polygon<S> { first: u32, count: u32, patch: bool, convex: bool, degenerate: bool, axis_u: u8, axis_v: u8, ccw: bool, normal: Vec3<S>, d: S });
+
 /// The component `axis` of every lane.
 #[inline(always)]
 fn lanes_axis<S: Scalar, const W: usize>(v: &Vec3xW<S, W>, axis: u8) -> Lanes<S, W> {

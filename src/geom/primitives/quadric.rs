@@ -18,6 +18,8 @@ pub struct Quadric<S> {
     clip: Option<(Vec3<S>, Vec3<S>)>,
 }
 
+crate::num::bake::bake_struct!("raypack::geom::primitives::Quadric", Quadric<S> { k: [S; 10], clip: Option<(Vec3<S>, Vec3<S>)> });
+
 /// Symmetric 4×4 matrix form of a quadric: `Q(x) = xᵀ M x` with `x = (x, y, z, 1)`.
 type Mat4<S> = [[S; 4]; 4];
 

@@ -48,6 +48,23 @@ pub enum Shape<S> {
     Cone(Cone<S>),
 }
 
+impl<S: crate::num::bake::Bake> crate::num::bake::Bake for Shape<S> {
+    fn bake(&self, w: &mut dyn core::fmt::Write) -> core::fmt::Result {
+        let (variant, inner): (&str, &dyn crate::num::bake::Bake) = match self {
+            Shape::Sphere(p) => ("Sphere", p),
+            Shape::Plane(p) => ("Plane", p),
+            Shape::Polygon(p) => ("Polygon", p),
+            Shape::AaBox(p) => ("AaBox", p),
+            Shape::OrientedBox(p) => ("OrientedBox", p),
+            Shape::Quadric(p) => ("Quadric", p),
+            Shape::Cone(p) => ("Cone", p),
+        };
+        write!(w, "raypack::geom::primitives::Shape::{variant}(")?;
+        inner.bake(w)?;
+        w.write_str(")")
+    }
+}
+
 impl<S: Scalar> Shape<S> {
     /// The kind of this primitive.
     pub fn kind(&self) -> ShapeKind {

@@ -15,6 +15,8 @@ pub struct Sphere<S> {
     radius2: S,
 }
 
+crate::num::bake::bake_struct!("raypack::geom::primitives::Sphere", Sphere<S> { center: Vec3<S>, radius: S, radius2: S });
+
 impl<S: Scalar> Sphere<S> {
     /// A sphere of positive, finite `radius` around a finite `center`.
     pub fn new(center: Vec3<S>, radius: S) -> Result<Self, GeometryError> {

@@ -24,6 +24,7 @@ use raypack::demo::{build_demo_scene_for, demo_camera_for};
 use raypack::draw_target::{DrawError, FromRgb8};
 use raypack::output::{Dither, Fnv1a, ImageChecksums, CHECKSUM_DITHER};
 use raypack::render::{Renderer, Rgb8};
+use raypack::scene::SceneView;
 use raypack::trace::{RayStats, TraceSettings, Tracer};
 
 /// Builds the core's demo scene for scalar `S` in `slot` (typically a
@@ -170,6 +171,29 @@ impl DrawTarget for ChecksumPanel {
         }
         Ok(())
     }
+}
+
+/// The renderer of the demo scene baked into `static` data
+/// ([`crate::baked_demo`]): [`Fixed32`](raypack::Fixed32) at
+/// [`IMAGE_WIDTH`](crate::IMAGE_WIDTH)×[`IMAGE_HEIGHT`](crate::IMAGE_HEIGHT),
+/// the same scene and camera [`demo_renderer`] builds, without building
+/// anything: the view over the statics is checked, not made.
+pub fn baked_demo_renderer() -> Result<Renderer<'static, raypack::Fixed32>, Failure> {
+    use crate::baked_demo::{BACKGROUND, CAMERA, LIGHTS, MATERIALS, PRIMITIVES, VERTICES};
+    let view = SceneView::new(&PRIMITIVES, &VERTICES, &MATERIALS, &LIGHTS, BACKGROUND).map_err(Failure::Scene)?;
+    let tracer = Tracer::new(view, TraceSettings::default()).map_err(Failure::Trace)?;
+    Ok(Renderer::new(tracer, CAMERA))
+}
+
+/// The baked demo ([`baked_demo_renderer`]) into a [`ChecksumPanel`]: the
+/// `fixed32` checksums and ray counts of `targets/checksums.txt`, as
+/// [`render_demo`] gives them.
+pub fn render_baked_demo<const W: usize>(band: &mut [Rgb8]) -> Result<ImageChecksums, Failure> {
+    let renderer = baked_demo_renderer()?;
+    let mut panel = ChecksumPanel::new();
+    let mut stats = RayStats::default();
+    renderer.draw_bands::<W, _>(&mut panel, Point::zero(), band, DITHER, &mut stats).map_err(draw_failure)?;
+    Ok(panel.checksums(stats))
 }
 
 /// [`render_demo_into`] a [`ChecksumPanel`]: the checksums and ray counts of

@@ -18,6 +18,13 @@
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
+/// The demo scene for [`Fixed32`] at 160×128, in its frame, baked on the
+/// host into `static` data (`cargo run --example bake_scene` in the
+/// repository's root writes this file; a host test checks that it is
+/// current and renders the same bytes). What [`run_baked`] renders: no
+/// scene code and no scene RAM in the image.
+#[rustfmt::skip]
+pub mod baked_demo;
 pub mod console;
 pub mod draw;
 pub mod dual;
@@ -160,7 +167,9 @@ impl Failure {
     }
 }
 
-pub use draw::{demo_renderer, render_demo, render_demo_into, ChecksumPanel, Probe};
+pub use draw::{
+    baked_demo_renderer, demo_renderer, render_baked_demo, render_demo, render_demo_into, ChecksumPanel, Probe,
+};
 
 /// [`render_demo`] timed by `clock` (scene build, render and checksum
 /// fold; not the report), then [`report_render`] (or [`report_failure`])
@@ -174,11 +183,28 @@ pub fn run<S: SlotScalar, const W: usize>(
     slot: &mut SceneSlot,
     band: &mut [Rgb8],
 ) -> bool {
+    run_timed(c, clock, scalar, W, || render_demo::<S, W>(slot, band))
+}
+
+/// [`run`] for the baked demo scene ([`render_baked_demo`], `fixed32`):
+/// the time is the render and the checksum fold (and the view's check),
+/// as there is no scene to build.
+pub fn run_baked<const W: usize>(c: &mut impl Console, clock: &mut impl Clock, band: &mut [Rgb8]) -> bool {
+    run_timed(c, clock, "fixed32", W, || render_baked_demo::<W>(band))
+}
+
+fn run_timed(
+    c: &mut impl Console,
+    clock: &mut impl Clock,
+    scalar: &str,
+    width: usize,
+    render: impl FnOnce() -> Result<ImageChecksums, Failure>,
+) -> bool {
     let rate = clock.rate();
-    let (r, ticks) = measure(clock, || render_demo::<S, W>(slot, band));
+    let (r, ticks) = measure(clock, render);
     match r {
         Ok(r) => {
-            report_render(c, scalar, W, &r);
+            report_render(c, scalar, width, &r);
             key(c, scalar, "instructions");
             c.write_u64(rate.instructions(ticks));
             c.write_str("\n");
@@ -328,6 +354,35 @@ fn panic_never(_: &core::panic::PanicInfo) -> ! {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `baked_demo.rs` is what `bake_scene` writes for the demo today (so
+    /// it cannot go stale), its statics are the built scene and camera
+    /// field for field, and it renders the built scene's checksums.
+    #[test]
+    fn baked_demo_is_current_and_renders_the_same_bytes() {
+        use raypack::demo::{build_demo_scene_for, demo_camera_for};
+        let mut scene = Box::new(DemoScene::<Fixed32>::new());
+        let mut described = Box::new(DemoScene::<f32>::new());
+        let frame = build_demo_scene_for(&mut scene, &mut described).unwrap();
+        let camera = demo_camera_for::<Fixed32>(&frame, IMAGE_WIDTH, IMAGE_HEIGHT).unwrap();
+        let mut source = String::new();
+        raypack::scene::bake::bake_scene(&scene.view(), &camera, &mut source).unwrap();
+        assert!(
+            source == include_str!("baked_demo.rs"),
+            "targets/common/src/baked_demo.rs is stale: run `cargo run --example bake_scene > targets/common/src/baked_demo.rs`"
+        );
+        let view = scene.view();
+        assert_eq!(&baked_demo::PRIMITIVES[..], view.primitives());
+        assert_eq!(&baked_demo::VERTICES[..], view.vertices());
+        assert_eq!(&baked_demo::MATERIALS[..], view.materials());
+        assert_eq!(&baked_demo::LIGHTS[..], view.lights());
+        assert_eq!(baked_demo::BACKGROUND, view.background());
+        assert_eq!(baked_demo::CAMERA, camera);
+        let mut band = vec![[0u8; 3]; band_pixels(1)];
+        let baked = render_baked_demo::<1>(&mut band).unwrap();
+        let mut slot = Box::new(SceneSlot::new());
+        assert_eq!(baked, render_demo::<Fixed32, 1>(&mut slot, &mut band).unwrap());
+    }
 
     /// FNV-1a 32, written out again (not raypack's) for the tests.
     pub(crate) struct Fnv(u32);

@@ -1,10 +1,10 @@
 //! What both `microbit` images share: start-up report and clock, the static
-//! scene slot and row buffer, the semihosting console, the closing report,
+//! row buffer, the semihosting console, the closing report,
 //! and the fault and panic handlers.
 //!
-//! Memory: each scene is built in place in one `static` slot (never copied
-//! on the stack; the fixed-point scene reuses the f32 scene's bytes), the
-//! band is one row (480 bytes); statics and the stack together must fit in
+//! Memory: the band is one row (480 bytes); the test image builds each
+//! scene in place in one `static` slot of its own (`main.rs`), the
+//! `fixed32`-only image renders the scene baked into flash; statics and the stack together must fit in
 //! the 16 KiB, and the report says how much of it they took.
 
 use core::ptr::{addr_of, addr_of_mut};
@@ -12,7 +12,7 @@ use cortex_m_rt::{exception, ExceptionFrame};
 use cortex_m_semihosting::{debug, hio};
 use raypack::render::Rgb8;
 use raypack_firmware_common::timing::systick::{self, SysTick};
-use raypack_firmware_common::{self as fw, stack, Console, SceneSlot};
+use raypack_firmware_common::{self as fw, stack, Console};
 
 /// Packet width: the scalar path (no SIMD, and the smallest stack).
 pub const WIDTH: usize = 1;
@@ -23,7 +23,6 @@ const BAND_ROWS: usize = 1;
 /// SysTick counts with CLKSOURCE = processor clock.
 const CPU_HZ: u32 = 16_000_000;
 
-static mut SCENE: SceneSlot = SceneSlot::new();
 static mut BAND: [Rgb8; fw::band_pixels(BAND_ROWS)] = [[0; 3]; fw::band_pixels(BAND_ROWS)];
 
 extern "C" {
@@ -57,8 +56,8 @@ fn exit(ok: bool) -> ! {
     }
 }
 
-/// The board after start-up: its console, its instruction clock, the scene
-/// slot and the row buffer.
+/// The board after start-up: its console, its instruction clock and the
+/// row buffer.
 pub struct Board {
     /// Semihosting standard output.
     pub con: Semihosting,
@@ -66,8 +65,6 @@ pub struct Board {
     pub clock: SysTick,
     /// Whether the clock passed its calibration.
     pub clock_ok: bool,
-    /// The scene slot (a `static`).
-    pub slot: &'static mut SceneSlot,
     /// The band buffer: one image row (a `static`).
     pub band: &'static mut [Rgb8],
 }
@@ -87,10 +84,10 @@ pub fn start(cpu: &'static str) -> Board {
     let mut clock = unsafe { SysTick::start(CPU_HZ) };
     let clock_ok = fw::check_clock(&mut con, &mut clock, "systick");
 
-    // SAFETY: the only references to these statics, taken once (`start`
-    // is called once).
-    let (slot, band) = unsafe { (&mut *addr_of_mut!(SCENE), &mut *addr_of_mut!(BAND)) };
-    Board { con, clock, clock_ok, slot, band }
+    // SAFETY: the only reference to this static, taken once (`start` is
+    // called once).
+    let band = unsafe { &mut *addr_of_mut!(BAND) };
+    Board { con, clock, clock_ok, band }
 }
 
 /// Prints the memory figures and the result line, and exits QEMU.

@@ -17,16 +17,23 @@
 mod board;
 
 use board::WIDTH;
+use core::ptr::addr_of_mut;
 use cortex_m_rt::entry;
 use raypack_firmware_common::dual::run_shares;
-use raypack_firmware_common::Fixed32;
+use raypack_firmware_common::{Fixed32, SceneSlot};
+
+/// Each scene is built in place here (never copied on the stack; the
+/// fixed-point scene reuses the f32 scene's bytes).
+static mut SCENE: SceneSlot = SceneSlot::new();
 
 #[entry]
 fn main() -> ! {
     let b = board::start("cortex-m0 (soft-float f32)");
+    // SAFETY: the only reference to this static, taken once.
+    let slot = unsafe { &mut *addr_of_mut!(SCENE) };
     let (mut con, mut clock) = (b.con, b.clock);
-    let ok_f32 = run_shares::<f32, WIDTH>(&mut con, &mut clock, "f32", b.slot, b.band);
+    let ok_f32 = run_shares::<f32, WIDTH>(&mut con, &mut clock, "f32", slot, b.band);
     // The same scene again in Q8.24 fixed point, in the same memory.
-    let ok_fixed = run_shares::<Fixed32, WIDTH>(&mut con, &mut clock, "fixed32", b.slot, b.band);
+    let ok_fixed = run_shares::<Fixed32, WIDTH>(&mut con, &mut clock, "fixed32", slot, b.band);
     board::finish(con, ok_f32 && ok_fixed && b.clock_ok)
 }
