@@ -156,4 +156,21 @@ mod tests {
             material: 0,
         };
     }
+
+    /// `from_baked` takes any fields; the view over them still checks
+    /// vertex ranges and material indices (an error, never a panic).
+    #[test]
+    fn views_over_baked_data_are_checked() {
+        use crate::geom::primitives::Polygon;
+        use crate::scene::SceneView;
+        let n = Vec3::new(0.0f32, 0.0, 1.0);
+        let poly = Polygon::from_baked(u32::MAX - 1, u32::MAX, true, true, false, 0, 1, true, n, 0.0);
+        let prims = [Primitive { shape: Shape::Polygon(poly), material: 0 }];
+        let mats = [Material::diffuse(Vec3::new(1.0f32, 1.0, 1.0))];
+        let verts = [n; 4];
+        assert!(SceneView::new(&prims, &verts, &mats, &[], n).is_err());
+        let sphere = [Primitive { shape: Shape::Sphere(Sphere::from_baked(n, 1.0, 1.0)), material: 3 }];
+        assert!(SceneView::new(&sphere, &verts, &mats, &[], n).is_err());
+        assert!(SceneView::new(&sphere[..0], &verts, &mats, &[], n).is_ok());
+    }
 }

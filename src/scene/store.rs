@@ -744,8 +744,9 @@ impl<'a, S: Scalar> SceneView<'a, S> {
                 return Err(SceneError::UnknownMaterial(p.material));
             }
             if let Shape::Polygon(poly) = &p.shape {
-                let slots = poly.vertex_count() as usize * if poly.is_patch() { 2 } else { 1 };
-                if poly.first_vertex() as usize + slots > verts.len() {
+                // Saturating: a polygon from `from_baked` may hold any counts.
+                let slots = (poly.vertex_count() as usize).saturating_mul(if poly.is_patch() { 2 } else { 1 });
+                if (poly.first_vertex() as usize).saturating_add(slots) > verts.len() {
                     return Err(GeometryError::VertexRange.into());
                 }
             }
