@@ -1035,3 +1035,33 @@ fn a_scene_that_is_not_utf8_fails_with_a_line_and_column() {
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("standard input: line 2, column 1: not UTF-8 text (byte 0xff)"), "{}", stderr(&o));
 }
+
+/// `raypack bake`: every primitive of the file in the statics, the camera
+/// for the size asked, the same source through `-o` as on standard output,
+/// and a one-line error naming a file that is not there.
+#[test]
+fn bake_writes_the_scene_as_statics() {
+    let o = raypack(&["bake", &scene("teapot-1.nff"), "--width", "64", "--height", "48"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = String::from_utf8(o.stdout.clone()).unwrap();
+    assert!(s.contains("pub static PRIMITIVES: [raypack::scene::Primitive<raypack::Fixed32>; 57] = ["), "{s}");
+    assert_eq!(s.matches("raypack::scene::Primitive::from_baked(").count(), 57);
+    assert!(s.contains(", 64, 48, raypack::num::scalar::Divisor::new(64), raypack::num::scalar::Divisor::new(48), "));
+    let f = raypack(&["bake", &scene("teapot-1.nff"), "--scalar", "f32"]);
+    assert!(f.status.success(), "{}", stderr(&f));
+    let fs = String::from_utf8_lossy(&f.stdout);
+    assert!(fs.contains("pub static PRIMITIVES: [raypack::scene::Primitive<f32>; 57] = ["));
+    // The file's size by default (teapot-1: 512×512).
+    assert!(
+        fs.contains(", 512, 512, raypack::num::scalar::Divisor::new(512), raypack::num::scalar::Divisor::new(512), ")
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("scene.rs");
+    let w = raypack(&["bake", &scene("teapot-1.nff"), "--width", "64", "--height", "48", "-o", out.to_str().unwrap()]);
+    assert!(w.status.success() && w.stdout.is_empty(), "{}", stderr(&w));
+    assert_eq!(std::fs::read(&out).unwrap(), o.stdout);
+    let missing = raypack(&["bake", "no-such-scene.nff"]);
+    assert_eq!(missing.status.code(), Some(1));
+    let e = stderr(&missing);
+    assert!(e.contains("no-such-scene.nff") && e.lines().count() == 1, "{e}");
+}

@@ -16,6 +16,7 @@ macro_rules! note {
     }};
 }
 
+mod bake;
 mod bench;
 mod info;
 mod output;
@@ -46,6 +47,8 @@ enum Command {
     Stitch(stitch::StitchArgs),
     /// Measure primary-ray and full-render throughput of a scene, one line per measurement.
     Bench(bench::BenchArgs),
+    /// Write a scene and its camera as Rust `static` data for a firmware (no scene code on the device).
+    Bake(bake::BakeArgs),
     /// Show what a scene holds: primitives by kind, lights, materials, bounds, camera.
     Info {
         /// The NFF scene file (`-`: standard input).
@@ -55,7 +58,7 @@ enum Command {
 
 /// Number type the tracer computes with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum ScalarArg {
+pub enum ScalarArg {
     /// 32-bit IEEE float.
     F32,
     /// Q8.24 fixed point with 32-bit storage (`raypack::Fixed32`): what FPU-less firmware runs.
@@ -106,7 +109,7 @@ enum IsaArg {
 
 impl ScalarArg {
     /// The library's name for it.
-    fn kind(self) -> ScalarKind {
+    pub fn kind(self) -> ScalarKind {
         match self {
             ScalarArg::F32 => ScalarKind::F32,
             ScalarArg::Fixed32 => ScalarKind::Fixed32,
@@ -381,6 +384,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(&args),
         Command::Stitch(args) => stitch::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Bake(args) => bake::run(&args),
         Command::Info { scene } => info::run(&scene),
     };
     match result {

@@ -14,6 +14,7 @@ use crate::num::fixed32::Fixed32;
 use crate::num::scalar::Scalar;
 use crate::query::{AccelChoice, BuildSettings, BvhStats, HeapBvh};
 use crate::render::Renderer;
+use crate::scene::bake::{bake_scene, BakeScalar};
 use crate::scene::nff::{self, NffInfo};
 use crate::scene::HeapScene;
 use crate::trace::{TraceSettings, Tracer};
@@ -98,6 +99,35 @@ impl LoadedScene {
             Scalars::F32(s) => s.render(options, progress),
             Scalars::Fixed32(s) => s.render(options, progress),
         }
+    }
+}
+
+impl LoadedScene {
+    /// The scene and its camera (the file's, for a `width × height` image,
+    /// by default the file's size) as Rust source for a firmware, written
+    /// by [`bake_scene`](crate::scene::bake::bake_scene): `static` arrays a
+    /// `SceneView` is made over, and the camera. Fixed point: the scene
+    /// must fit the scalar's range, as for rendering ([`Error::Range`]).
+    pub fn bake(&self, width: Option<u32>, height: Option<u32>) -> Result<String, Error> {
+        match &self.scene {
+            Scalars::F32(s) => s.bake(width, height),
+            Scalars::Fixed32(s) => s.bake(width, height),
+        }
+    }
+}
+
+impl<S: BakeScalar> Loaded<S> {
+    fn bake(&self, width: Option<u32>, height: Option<u32>) -> Result<String, Error> {
+        let cam = self.info.nff.camera.ok_or(Error::NoCamera)?;
+        let (width, height) = image_size(width, height, (cam.width, cam.height));
+        let camera = Camera::<S>::in_frame(cam.from, cam.at, cam.up, cam.angle, width, height, &self.frame)
+            .map_err(Error::Camera)?;
+        let view = self.scene.view();
+        view.check_range(camera.eye()).map_err(Error::Range)?;
+        let mut source = String::new();
+        // A `String` accepts every write: this cannot fail.
+        let _ = bake_scene(&view, &camera, &mut source);
+        Ok(source)
     }
 }
 
