@@ -29,7 +29,9 @@
 //! `from_baked` does not check what it is given: values other than the ones
 //! [`Bake`] wrote give a primitive whose answers are unspecified (never a
 //! panic; [`SceneView::new`] still checks material indices and vertex
-//! ranges). `examples/bake_scene.rs` bakes the firmware's demo scene.
+//! ranges). `raypack bake scene.nff -o scene.rs` bakes an NFF scene
+//! (`LoadedScene::bake` in the `std` harness); `examples/bake_scene.rs`
+//! bakes the firmware's demo scene.
 
 use crate::geom::camera::Camera;
 use crate::scene::SceneView;
