@@ -21,8 +21,8 @@
 //!   transmissive primitives than the record holds, the packet falls back to
 //!   the brute-force loop.
 //!
-//! Sparse packets (at most a quarter of 8 or more lanes active, as
-//! secondary rays often are) go one ray at a time: a packet's slab test
+//! Sparse packets (at most an eighth of 8 or more lanes active, as
+//! secondary rays may be) go one ray at a time: a packet's slab test
 //! costs every lane, so a few live lanes pay for all `W` at each node,
 //! while a single ray's walk visits only its own nodes. Each lane's answer
 //! is the width-1 query's, which is the brute-force answer like every
@@ -298,13 +298,14 @@ impl<S: Scalar, const W: usize> LeafVisitor<S, W> for Shadow<'_, '_, S, W> {
     }
 }
 
-/// Whether a packet is traced one ray at a time: 8 or more lanes, at most a
-/// quarter of them active. (Measured on x86 with AVX-512, `raypack bench`:
-/// packets of 16 trace Whitted frames 4–17 % faster with it, packets of 8
-/// within noise; half the lanes as the threshold was slower.)
+/// Whether a packet is traced one ray at a time: 8 or more lanes, at most an
+/// eighth of them active (one of 8, two of 16). Measured on x86 with
+/// AVX-512 (`raypack bench`, docs/performance.md): packets of 16 trace
+/// Whitted frames 3–16 % faster with it, packets of 8 within ±4 %; a
+/// quarter of the lanes was slower at packet 8 (gears-2), half slower still.
 #[inline(always)]
 fn sparse<const W: usize>(active: Mask<W>) -> bool {
-    W >= 8 && active.count() as usize <= W / 4
+    W >= 8 && active.count() as usize <= W / 8
 }
 
 impl<'a, S: Scalar> BvhView<'a, S> {
