@@ -31,8 +31,11 @@ use raypack::output::RectPositions;
 use raypack::render::{BufferTooSmall, Renderer, Rgb8};
 use raypack::trace::RayStats;
 
-/// Rows per band: the Pico's band buffers (one per core, 1 920 bytes each).
-pub const BAND_ROWS: u32 = 4;
+/// Rows per band: the Pico's band buffers (one per core, 960 bytes each).
+/// Two rows rather than four even the cores' pairs of bands out
+/// (docs/firmware.md: the lockstep frame 131.7 M → 125.2 M instructions),
+/// for twice the hand-overs and SPI address windows.
+pub const BAND_ROWS: u32 = 2;
 /// Cores the frame is split between.
 pub const CORES: u32 = 2;
 /// Bands in the image.
@@ -213,25 +216,72 @@ pub fn add_stats(a: RayStats, b: RayStats) -> RayStats {
     }
 }
 
-/// Each core's share of a two-core frame, measured on one core.
+/// Each core's share of a two-core frame, measured on one core: summed
+/// band by band as the bands arrive, in order (a band may come in several
+/// pieces), so no per-band table takes RAM (the Cortex-M0 test image has a
+/// few hundred bytes to spare).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Shares {
     /// Ticks of the scene build and renderer set-up (core 0, before core 1
     /// starts).
     pub build: u64,
-    /// Ticks of each band's render (a band is far below 2³² instructions;
-    /// 32 bits keep the table small on the Cortex-M0's stack).
-    pub band: [u32; BANDS as usize],
+    /// Ticks of each core's finished bands.
+    cores: [u64; CORES as usize],
+    /// Over the finished band pairs `(2k, 2k + 1)`: the slower band's ticks.
+    pairs: u64,
+    /// The band being timed: its index and its ticks so far.
+    open: Option<(u32, u64)>,
+    /// The ticks of band `2k` while band `2k + 1` is still to come.
+    first_of_pair: Option<u64>,
     /// Pixels rendered for each core.
     pub pixels: [u32; CORES as usize],
 }
 
 impl Shares {
+    /// No band yet, the build's ticks `build`.
+    pub fn new(build: u64) -> Self {
+        Shares { build, ..Shares::default() }
+    }
+    /// Charges `ticks` to band `index` (the band of the previous call, or
+    /// the next one: a new index closes the band before it).
+    pub fn add(&mut self, index: u32, ticks: u64) {
+        match self.open {
+            Some((i, t)) if i == index => self.open = Some((i, t.saturating_add(ticks))),
+            _ => {
+                self.close();
+                self.open = Some((index, ticks));
+            }
+        }
+    }
+    /// Books the open band to its core and its pair.
+    fn close(&mut self) {
+        let Some((index, ticks)) = self.open.take() else { return };
+        if let Some(c) = self.cores.get_mut(band_owner(index) as usize) {
+            *c = c.saturating_add(ticks);
+        }
+        if index % 2 == 0 {
+            // A pair whose second band never came costs its first.
+            if let Some(first) = self.first_of_pair.replace(ticks) {
+                self.pairs = self.pairs.saturating_add(first);
+            }
+        } else {
+            let first = self.first_of_pair.take().unwrap_or(0);
+            self.pairs = self.pairs.saturating_add(first.max(ticks));
+        }
+    }
+    /// The shares with every band booked.
+    fn closed(&self) -> Self {
+        let mut s = *self;
+        s.close();
+        if let Some(first) = s.first_of_pair.take() {
+            s.pairs = s.pairs.saturating_add(first);
+        }
+        s
+    }
     /// The share of core `core`: the build (which both cores wait for) and
     /// its bands.
     pub fn core(&self, core: u32) -> u64 {
-        let bands = (0..BANDS).filter(|&i| band_owner(i) == core);
-        bands.fold(self.build, |t, i| t.saturating_add(self.band.get(i as usize).copied().unwrap_or(0) as u64))
+        self.build.saturating_add(self.closed().cores.get(core as usize).copied().unwrap_or(0))
     }
     /// The larger share: a lower bound of the two-core frame.
     pub fn larger(&self) -> u64 {
@@ -242,9 +292,7 @@ impl Shares {
     /// take it, as [`core0_bands`] and [`core1_bands`] do): the build plus,
     /// per pair, the slower band.
     pub fn lockstep(&self) -> u64 {
-        self.band
-            .chunks(CORES as usize)
-            .fold(self.build, |t, pair| t.saturating_add(pair.iter().copied().max().unwrap_or(0) as u64))
+        self.build.saturating_add(self.closed().pairs)
     }
 }
 
@@ -264,7 +312,7 @@ impl<'c, C: Clock> TimedPanel<'c, C> {
     /// A panel that has been sent nothing, timing from `start` (a reading of
     /// `clock`), with the build's ticks `build`.
     pub fn new(clock: &'c mut C, start: u64, build: u64) -> Self {
-        TimedPanel { panel: ChecksumPanel::new(), clock, mark: start, shares: Shares { build, ..Shares::default() } }
+        TimedPanel { panel: ChecksumPanel::new(), clock, mark: start, shares: Shares::new(build) }
     }
 }
 
@@ -289,10 +337,7 @@ impl<C: Clock> DrawTarget for TimedPanel<'_, C> {
     ) -> Result<(), Infallible> {
         let now = self.clock.now();
         let index = (area.top_left.y.max(0) as u32) / BAND_ROWS;
-        if let Some(t) = self.shares.band.get_mut(index as usize) {
-            let ticks = u32::try_from(now.saturating_sub(self.mark)).unwrap_or(u32::MAX);
-            *t = t.saturating_add(ticks);
-        }
+        self.shares.add(index, now.saturating_sub(self.mark));
         if let Some(p) = self.shares.pixels.get_mut(band_owner(index) as usize) {
             *p = p.saturating_add(area.size.width.saturating_mul(area.size.height));
         }
@@ -547,16 +592,34 @@ pub(crate) mod tests {
 
     #[test]
     fn the_shares_add_up() {
-        let s = Shares { build: 5, band: core::array::from_fn(|i| 10 + i as u32), pixels: [0; 2] };
+        let shares = |ticks: &dyn Fn(u32) -> u64, pieces: u64| {
+            let mut s = Shares::new(5);
+            for i in 0..BANDS {
+                for _ in 0..pieces {
+                    s.add(i, ticks(i) / pieces);
+                }
+            }
+            s
+        };
         let even: u64 = (0..BANDS as u64).filter(|i| i % 2 == 0).map(|i| 10 + i).sum();
         let odd: u64 = (0..BANDS as u64).filter(|i| i % 2 == 1).map(|i| 10 + i).sum();
+        let s = shares(&|i| 10 + i as u64, 1);
         assert_eq!((s.core(0), s.core(1), s.larger()), (5 + even, 5 + odd, 5 + odd));
         assert_eq!(s.lockstep(), 5 + odd);
         // Every fourth band heavy: all on core 0, each pair costs its
-        // heavier band.
-        let s = Shares { build: 0, band: core::array::from_fn(|i| if i % 4 == 0 { 9 } else { 1 }), pixels: [0; 2] };
-        let quarter = BANDS as u64 / 4;
-        assert_eq!((s.core(0), s.core(1)), (9 * quarter + quarter, 2 * quarter));
-        assert_eq!(s.lockstep(), 9 * quarter + quarter);
+        // heavier band; the same with each band in two pieces.
+        for pieces in [1, 2] {
+            let s = shares(&|i| if i % 4 == 0 { 18 } else { 2 }, pieces);
+            let quarter = BANDS as u64 / 4;
+            assert_eq!((s.core(0), s.core(1)), (5 + 18 * quarter + 2 * quarter, 5 + 4 * quarter));
+            assert_eq!(s.lockstep(), 5 + 18 * quarter + 2 * quarter);
+        }
+        // Querying does not book the open band twice.
+        let mut s = Shares::new(0);
+        s.add(0, 7);
+        assert_eq!((s.core(0), s.lockstep()), (7, 7));
+        s.add(0, 1);
+        s.add(1, 9);
+        assert_eq!((s.core(0), s.core(1), s.lockstep()), (8, 9, 9));
     }
 }
