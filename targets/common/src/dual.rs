@@ -13,7 +13,7 @@
 //! pixels, computed by the same code, in the same order and the same
 //! `fill_contiguous` calls.
 //!
-//! [`measure_shares`] renders each core's bands on one core and counts the
+//! [`run_shares`] renders each core's bands on one core and counts the
 //! instructions of each band (under QEMU's `-icount`): what each core of a
 //! two-core part retires for its share of the frame.
 

@@ -13,8 +13,9 @@
 //! retires the same instructions, and the timer interrupts fall at the same
 //! instruction every run.
 //!
-//! [`calibrate`] checks that assumption on the board itself: it times a loop
-//! of a known number of instructions and compares.
+//! `calibrate` (on the firmware targets) checks that assumption on the
+//! board itself: it times a loop of a known number of instructions and
+//! compares.
 
 /// A timer that counts up from an arbitrary origin, in ticks of its
 /// [`TickRate`], without wrapping within any measurement (64 bits).
@@ -151,12 +152,12 @@ impl TickRate {
 /// 2^N ns. The firmware is run with `shift=0`.
 pub const ICOUNT_SHIFT: u32 = 0;
 
-/// Iterations of the calibration loop ([`calibrate`]): 2 instructions each.
+/// Iterations of the calibration loop (`calibrate`): 2 instructions each.
 pub const CALIBRATION_ITERATIONS: u32 = 5_000_000;
 /// Instructions the calibration loop retires.
 pub const CALIBRATION_INSTRUCTIONS: u64 = 2 * CALIBRATION_ITERATIONS as u64;
 
-/// What [`calibrate`] found.
+/// What `calibrate` (on the firmware targets) found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Calibration {
     /// Instructions the loop measured (from ticks).
