@@ -134,6 +134,8 @@ fi
 cd targets
 say "firmware support crate: host unit tests (render loop, checksum and panel streams, clock)"
 cargo test -q -p raypack-firmware-common --lib --features panel
+say "firmware support crate: its documentation builds without warnings (host)"
+RUSTDOCFLAGS="-D warnings" cargo doc -q --no-deps -p raypack-firmware-common --features panel
 
 # ---------------------------------------------------------------- downstream
 # A downstream crate depending on raypack (path, embedded-graphics adapter),
