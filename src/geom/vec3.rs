@@ -336,13 +336,7 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
 
 impl<T: crate::num::bake::Bake> crate::num::bake::Bake for Vec3<T> {
     fn bake(&self, w: &mut dyn core::fmt::Write) -> core::fmt::Result {
-        w.write_str("raypack::geom::vec3::Vec3::new(")?;
-        self.x.bake(w)?;
-        w.write_str(", ")?;
-        self.y.bake(w)?;
-        w.write_str(", ")?;
-        self.z.bake(w)?;
-        w.write_str(")")
+        crate::num::bake::call(w, "raypack::geom::vec3::Vec3::new", &[&self.x, &self.y, &self.z])
     }
 }
 

@@ -35,14 +35,7 @@ bake_display!(bool, u8, u16, u32);
 
 impl<T: Bake, const N: usize> Bake for [T; N] {
     fn bake(&self, w: &mut dyn Write) -> fmt::Result {
-        w.write_str("[")?;
-        for (i, v) in self.iter().enumerate() {
-            if i > 0 {
-                w.write_str(", ")?;
-            }
-            v.bake(w)?;
-        }
-        w.write_str("]")
+        list(w, "[", self.iter().map(|v| v as &dyn Bake), "]")
     }
 }
 
@@ -50,37 +43,34 @@ impl<T: Bake> Bake for Option<T> {
     fn bake(&self, w: &mut dyn Write) -> fmt::Result {
         match self {
             None => w.write_str("None"),
-            Some(v) => {
-                w.write_str("Some(")?;
-                v.bake(w)?;
-                w.write_str(")")
-            }
+            Some(v) => call(w, "Some", &[v]),
         }
     }
 }
 
 impl<A: Bake, B: Bake> Bake for (A, B) {
     fn bake(&self, w: &mut dyn Write) -> fmt::Result {
-        w.write_str("(")?;
-        self.0.bake(w)?;
-        w.write_str(", ")?;
-        self.1.bake(w)?;
-        w.write_str(")")
+        list(w, "(", [&self.0 as &dyn Bake, &self.1], ")")
     }
+}
+
+/// Writes `open`, the items baked and separated by `, `, then `close`.
+fn list<'a>(w: &mut dyn Write, open: &str, items: impl IntoIterator<Item = &'a dyn Bake>, close: &str) -> fmt::Result {
+    w.write_str(open)?;
+    for (i, v) in items.into_iter().enumerate() {
+        if i > 0 {
+            w.write_str(", ")?;
+        }
+        v.bake(w)?;
+    }
+    w.write_str(close)
 }
 
 /// Writes `name(a, b, …)` with each argument baked.
 #[doc(hidden)]
 pub fn call(w: &mut dyn Write, name: &str, args: &[&dyn Bake]) -> fmt::Result {
     w.write_str(name)?;
-    w.write_str("(")?;
-    for (i, a) in args.iter().enumerate() {
-        if i > 0 {
-            w.write_str(", ")?;
-        }
-        a.bake(w)?;
-    }
-    w.write_str(")")
+    list(w, "(", args.iter().copied(), ")")
 }
 
 /// Gives a struct a `const fn from_baked` taking every field in order, and
@@ -99,22 +89,6 @@ macro_rules! bake_struct {
             }
         }
         impl<$s: $crate::num::bake::Bake> $crate::num::bake::Bake for $ty<$s> {
-            fn bake(&self, w: &mut dyn core::fmt::Write) -> core::fmt::Result {
-                $crate::num::bake::call(w, concat!($path, "::from_baked"), &[$(&self.$f),*])
-            }
-        }
-    };
-    ($path:literal, $ty:ident { $($f:ident : $t:ty),* $(,)? }) => {
-        impl $ty {
-            /// Rebuilds the value from its fields, in declaration order, as
-            /// [`Bake`](crate::num::bake::Bake) wrote them (scenes baked
-            /// into `static` data, see `raypack::scene::bake`). Unchecked:
-            /// other values give unspecified answers, never a panic.
-            pub const fn from_baked($($f: $t),*) -> Self {
-                $ty { $($f),* }
-            }
-        }
-        impl $crate::num::bake::Bake for $ty {
             fn bake(&self, w: &mut dyn core::fmt::Write) -> core::fmt::Result {
                 $crate::num::bake::call(w, concat!($path, "::from_baked"), &[$(&self.$f),*])
             }

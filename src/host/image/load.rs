@@ -118,12 +118,8 @@ impl LoadedScene {
 
 impl<S: BakeScalar> Loaded<S> {
     fn bake(&self, width: Option<u32>, height: Option<u32>) -> Result<String, Error> {
-        let cam = self.info.nff.camera.ok_or(Error::NoCamera)?;
-        let (width, height) = image_size(width, height, (cam.width, cam.height));
-        let camera = Camera::<S>::in_frame(cam.from, cam.at, cam.up, cam.angle, width, height, &self.frame)
-            .map_err(Error::Camera)?;
+        let camera = self.camera(width, height)?;
         let view = self.scene.view();
-        view.check_range(camera.eye()).map_err(Error::Range)?;
         let mut source = String::new();
         // A `String` accepts every write: this cannot fail.
         let _ = bake_scene(&view, &camera, &mut source);
@@ -195,18 +191,26 @@ impl<S: Scalar> Loaded<S> {
         self.scene.view().bounds().map(|(lo, hi)| (lo.to_f32(), hi.to_f32()))
     }
 
-    fn render(&self, options: &Options, progress: &(dyn Fn() + Sync)) -> Result<Image, Error> {
+    /// The file's camera for a `width × height` image (default: the file's
+    /// size), in the scene's frame, once the whole scene is known to fit
+    /// the scalar's range (fixed point; a no-op for `f32`).
+    fn camera(&self, width: Option<u32>, height: Option<u32>) -> Result<Camera<S>, Error> {
         let cam = self.info.nff.camera.ok_or(Error::NoCamera)?;
-        let (width, height) = image_size(options.width, options.height, (cam.width, cam.height));
+        let (width, height) = image_size(width, height, (cam.width, cam.height));
         let camera = Camera::<S>::in_frame(cam.from, cam.at, cam.up, cam.angle, width, height, &self.frame)
             .map_err(Error::Camera)?;
+        self.scene.view().check_range(camera.eye()).map_err(Error::Range)?;
+        Ok(camera)
+    }
+
+    fn render(&self, options: &Options, progress: &(dyn Fn() + Sync)) -> Result<Image, Error> {
+        let camera = self.camera(options.width, options.height)?;
+        let (width, height) = (camera.full_rect().w, camera.full_rect().h);
         let region = options.region.unwrap_or(camera.full_rect());
         if !region.inside(camera.full_rect()) {
             return Err(Error::Region { region, size: (width, height) });
         }
         let view = self.scene.view();
-        // Fixed point: the whole scene must fit its range (a no-op for f32).
-        view.check_range(camera.eye()).map_err(Error::Range)?;
         let settings = TraceSettings { mode: options.mode, max_depth: options.depth, ..TraceSettings::default() };
         let (accel, kind) = match (options.accel, &self.bvh) {
             (AccelKind::Bvh, Some(tree)) => (AccelChoice::Bvh(tree.view()), AccelKind::Bvh),

@@ -26,6 +26,7 @@ use raypack::output::{Dither, Fnv1a, ImageChecksums, CHECKSUM_DITHER};
 use raypack::render::{Renderer, Rgb8};
 use raypack::scene::SceneView;
 use raypack::trace::{RayStats, TraceSettings, Tracer};
+use raypack::Scalar;
 
 /// Builds the core's demo scene for scalar `S` in `slot` (typically a
 /// `static`, so the scene is never copied on the stack; a Q8.24 scene is
@@ -44,7 +45,22 @@ where
     D: DrawTarget,
     D::Color: FromRgb8,
 {
-    let renderer = demo_renderer::<S>(slot)?;
+    draw_into::<S, W, D>(&demo_renderer::<S>(slot)?, band, target, top_left)
+}
+
+/// `renderer`'s frame drawn on `target` with its top-left pixel at
+/// `top_left`, band by band through `band`, with the checksum's dither;
+/// returns the rays traced.
+fn draw_into<S: Scalar, const W: usize, D>(
+    renderer: &Renderer<'_, S>,
+    band: &mut [Rgb8],
+    target: &mut D,
+    top_left: Point,
+) -> Result<RayStats, Failure>
+where
+    D: DrawTarget,
+    D::Color: FromRgb8,
+{
     let mut stats = RayStats::default();
     renderer.draw_bands::<W, D>(target, top_left, band, DITHER, &mut stats).map_err(draw_failure)?;
     Ok(stats)
@@ -189,11 +205,9 @@ pub fn baked_demo_renderer() -> Result<Renderer<'static, raypack::Fixed32>, Fail
 /// `fixed32` checksums and ray counts of `targets/checksums.txt`, as
 /// [`render_demo`] gives them.
 pub fn render_baked_demo<const W: usize>(band: &mut [Rgb8]) -> Result<ImageChecksums, Failure> {
-    let renderer = baked_demo_renderer()?;
     let mut panel = ChecksumPanel::new();
-    let mut stats = RayStats::default();
-    renderer.draw_bands::<W, _>(&mut panel, Point::zero(), band, DITHER, &mut stats).map_err(draw_failure)?;
-    Ok(panel.checksums(stats))
+    let rays = draw_into::<_, W, _>(&baked_demo_renderer()?, band, &mut panel, Point::zero())?;
+    Ok(panel.checksums(rays))
 }
 
 /// [`render_demo_into`] a [`ChecksumPanel`]: the checksums and ray counts of
