@@ -58,43 +58,31 @@ def regs(ops):
     return [r.strip() for r in m.group(1).split(',')] if m else []
 
 
-def cost(mn, ops, taken):
-    """(Cortex-M0, Cortex-M0+) cycles of one execution; `taken` for branches."""
-    base = mn.split('.')[0]
-    if base in ('push', 'stm', 'stmia', 'ldm', 'ldmia'):
-        n = len(regs(ops))
-        return (1 + n, 1 + n)
-    if base == 'pop':
-        n = len(regs(ops))
-        return (4 + n, 3 + n) if 'pc' in regs(ops) else (1 + n, 1 + n)
-    if base.startswith('ldr') or base.startswith('str'):
-        return (2, 2)
-    if base == 'bl':
-        return (4, 3)
-    if base in ('bx', 'blx'):
-        return (3, 2)
-    if base == 'b':
-        return (3, 2)
-    if re.fullmatch(r'b(eq|ne|cs|hs|cc|lo|mi|pl|vs|vc|hi|ls|ge|lt|gt|le)', base):
-        return (3, 2) if taken else (1, 1)
-    if base in ('mov', 'add') and ops.startswith('pc'):
-        return (3, 2)
-    if base in ('mrs', 'msr', 'dmb', 'dsb', 'isb'):
-        return (4, 3)
-    return (1, 1)
+BRANCH = re.compile(r'b(eq|ne|cs|hs|cc|lo|mi|pl|vs|vc|hi|ls|ge|lt|gt|le)')
 
 
-def kind(mn, ops):
+def classify(mn, ops, taken):
+    """(kind, Cortex-M0 cycles, Cortex-M0+ cycles) of one execution;
+    `taken` for a conditional branch."""
     base = mn.split('.')[0]
     if base in ('push', 'pop', 'stm', 'stmia', 'ldm', 'ldmia'):
-        return 'push/pop/ldm/stm'
+        n = len(regs(ops))
+        if base == 'pop' and 'pc' in regs(ops):
+            return 'push/pop/ldm/stm', 4 + n, 3 + n
+        return 'push/pop/ldm/stm', 1 + n, 1 + n
     if base.startswith('ldr') or base.startswith('str'):
-        return 'load/store'
-    if base in ('bl', 'bx', 'blx') or base == 'b' or re.fullmatch(r'b[a-z]{2}', base):
-        return 'branch/call'
-    if base == 'muls':
-        return 'muls'
-    return 'other'
+        return 'load/store', 2, 2
+    if base == 'bl':
+        return 'branch/call', 4, 3
+    if base in ('bx', 'blx', 'b'):
+        return 'branch/call', 3, 2
+    if BRANCH.fullmatch(base):
+        return ('branch/call', 3, 2) if taken else ('branch/call', 1, 1)
+    if base in ('mov', 'add') and ops.startswith('pc'):
+        return 'other', 3, 2
+    if base in ('mrs', 'msr', 'dmb', 'dsb', 'isb'):
+        return 'other', 4, 3
+    return ('muls' if base == 'muls' else 'other'), 1, 1
 
 
 n_insn = 0
@@ -119,11 +107,11 @@ for f in prof:
         else:
             parts = [(execs, False)]
         for n, taken in parts:
-            c0, c1 = cost(mn, ops, taken)
+            k, c0, c1 = classify(mn, ops, taken)
             cyc[0] += n * c0
             cyc[1] += n * c1
-            by_kind[kind(mn, ops)] += n * c1
-            by_kind_n[kind(mn, ops)] += n
+            by_kind[k] += n * c1
+            by_kind_n[k] += n
         n_insn += execs
         i += 1
 

@@ -32,9 +32,9 @@ use raypack::render::{BufferTooSmall, Renderer, Rgb8};
 use raypack::trace::RayStats;
 
 /// Rows per band: the Pico's band buffers (one per core, 960 bytes each).
-/// Two rows rather than four even the cores' pairs of bands out
-/// (docs/firmware.md: the lockstep frame 131.7 M → 125.2 M instructions),
-/// for twice the hand-overs and SPI address windows.
+/// Two rows rather than four even the cores' pairs of bands out (a
+/// shorter lockstep frame, docs/firmware.md "Two cores"), for twice the
+/// hand-overs and SPI address windows.
 pub const BAND_ROWS: u32 = 2;
 /// Cores the frame is split between.
 pub const CORES: u32 = 2;
