@@ -106,6 +106,14 @@ impl<S: Scalar> Vec3<S> {
     pub fn normalize_or_zero(self) -> Self {
         self.splat::<1>().normalize().0.lane(0)
     }
+    /// The unit vector the tracer makes of a hit's geometric normal
+    /// ([`Vec3xW::normalize_sparse`], zero where it has no length), for
+    /// primitives whose normal is one vector: stored with the primitive, it
+    /// spares a square root and a division per hit, with the same bits at
+    /// every packet width (normalising is lane-wise).
+    pub fn hit_normal(self) -> Self {
+        self.splat::<1>().normalize_sparse().0.lane(0)
+    }
     /// Whether every component is finite.
     #[inline]
     pub fn is_finite(self) -> bool {

@@ -295,7 +295,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             remaining = remaining.and_not(same);
             let Some(p) = prims.get(k as usize) else { continue };
             // Unit geometric normal (zero where it has no length).
-            let (g, _) = p.shape.normals(&point).normalize_sparse();
+            let g = p.shape.unit_normals(&point);
             ng = Vec3xW::select(same, g, ng);
             // Shading normal: the geometric one, except on patches, whose
             // interpolation runs per lane (rare, and branchy by nature).

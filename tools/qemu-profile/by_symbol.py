@@ -16,7 +16,7 @@ syms.sort()
 starts=[s[0] for s in syms]
 c=Counter()
 for l in open('prof.txt'):
-    a,n,k,last=l.split(); a=int(a,16); w=int(n)*int(k)
+    a,n,k,last=l.split()[:4]; a=int(a,16); w=int(n)*int(k)
     i=bisect.bisect_right(starts,a)-1
     name='?'
     if i>=0 and a < syms[i][0]+max(syms[i][1],1): name=syms[i][2]

@@ -10,7 +10,7 @@ for l in dis.split('\n'):
     if m: bl[int(m.group(1),16)]=m.group(2)
 calls=Counter()
 for l in open('prof.txt'):
-    s,c,n,last=l.split(); last=int(last,16)
+    s,c,n,last=l.split()[:4]; last=int(last,16)
     if last in bl and re.search(pat,bl[last]): calls[last]+=int(c)
 tot=sum(calls.values()); print('calls',tot)
 addrs=list(calls)

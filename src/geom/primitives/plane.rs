@@ -12,9 +12,13 @@ use crate::num::scalar::Scalar;
 pub struct Plane<S> {
     normal: Vec3<S>,
     d: S,
+    /// The normal of a hit: `normal` normalised again as the tracer
+    /// normalises every geometric normal ([`Vec3::hit_normal`]), worked out
+    /// once here rather than at every hit.
+    hit_normal: Vec3<S>,
 }
 
-crate::num::bake::bake_struct!("raypack::geom::primitives::Plane", Plane<S> { normal: Vec3<S>, d: S });
+crate::num::bake::bake_struct!("raypack::geom::primitives::Plane", Plane<S> { normal: Vec3<S>, d: S, hit_normal: Vec3<S> });
 
 impl<S: Scalar> Plane<S> {
     /// The plane `Ax + By + Cz + D = 0`; `(A, B, C)` must not be zero.
@@ -28,7 +32,7 @@ impl<S: Scalar> Plane<S> {
             return Err(GeometryError::ZeroLengthAxis);
         }
         let inv = S::ONE / len;
-        Ok(Plane { normal: n.scale(inv), d: d * inv })
+        Ok(Plane::with_normal(n.scale(inv), d * inv))
     }
 
     /// The plane through `point` with normal `normal` (any non-zero length).
@@ -40,18 +44,29 @@ impl<S: Scalar> Plane<S> {
         if n == Vec3::ZERO {
             return Err(if normal.is_finite() { GeometryError::ZeroLengthAxis } else { GeometryError::NonFinite });
         }
-        Ok(Plane { normal: n, d: -n.dot(point) })
+        Ok(Plane::with_normal(n, -n.dot(point)))
+    }
+
+    /// The plane `normal·x + d = 0` (unit `normal`).
+    fn with_normal(normal: Vec3<S>, d: S) -> Self {
+        Plane { normal, d, hit_normal: normal.hit_normal() }
     }
 
     /// The same plane in the frame of `sim`, with scalar `T`: with
     /// `x = x'/s + o`, `n·x + d = 0` becomes `n·x' + s·(d + n·o) = 0`.
     pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Plane<T> {
-        Plane { normal: sim.direction(self.normal), d: T::from_f32(moved_offset(self.normal, self.d, sim)) }
+        Plane::with_normal(sim.direction(self.normal), T::from_f32(moved_offset(self.normal, self.d, sim)))
     }
 
     /// Unit normal.
     pub fn normal_vector(&self) -> Vec3<S> {
         self.normal
+    }
+    /// The normal of every hit: the unit normal as the tracer normalises
+    /// geometric normals ([`Vec3::hit_normal`]).
+    #[inline(always)]
+    pub fn hit_normal(&self) -> Vec3<S> {
+        self.hit_normal
     }
     /// Offset `d` of `n·x + d = 0` for the unit normal.
     pub fn offset(&self) -> S {

@@ -34,9 +34,13 @@ pub struct Polygon<S> {
     ccw: bool,
     normal: Vec3<S>,
     d: S,
+    /// The geometric normal of a hit: `normal` normalised again as the
+    /// tracer normalises every geometric normal ([`Vec3::hit_normal`]),
+    /// worked out once here rather than at every hit.
+    hit_normal: Vec3<S>,
 }
 
-crate::num::bake::bake_struct!("raypack::geom::primitives::Polygon", Polygon<S> { first: u32, count: u32, patch: bool, convex: bool, degenerate: bool, axis_u: u8, axis_v: u8, ccw: bool, normal: Vec3<S>, d: S });
+crate::num::bake::bake_struct!("raypack::geom::primitives::Polygon", Polygon<S> { first: u32, count: u32, patch: bool, convex: bool, degenerate: bool, axis_u: u8, axis_v: u8, ccw: bool, normal: Vec3<S>, d: S, hit_normal: Vec3<S> });
 
 /// The component `axis` of every lane.
 #[inline(always)]
@@ -53,6 +57,7 @@ impl<S: Scalar> Polygon<S> {
     /// converted in the same order (positions by `sim`, normals unchanged).
     /// Its shape flags are the original's (a similarity keeps them).
     pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Polygon<T> {
+        let normal = sim.direction(self.normal);
         Polygon {
             first: self.first,
             count: self.count,
@@ -62,8 +67,9 @@ impl<S: Scalar> Polygon<S> {
             axis_u: self.axis_u,
             axis_v: self.axis_v,
             ccw: self.ccw,
-            normal: sim.direction(self.normal),
+            normal,
             d: T::from_f32(moved_offset(self.normal, self.d, sim)),
+            hit_normal: normal.hit_normal(),
         }
     }
 
@@ -133,8 +139,19 @@ impl<S: Scalar> Polygon<S> {
         let axis_v = (drop + 2) % 3;
         let ccw = normal.axis(drop as usize) > S::ZERO;
 
-        let mut poly =
-            Polygon { first, count, patch, convex: false, degenerate, axis_u, axis_v, ccw, normal, d: -normal.dot(o) };
+        let mut poly = Polygon {
+            first,
+            count,
+            patch,
+            convex: false,
+            degenerate,
+            axis_u,
+            axis_v,
+            ccw,
+            normal,
+            d: -normal.dot(o),
+            hit_normal: normal.hit_normal(),
+        };
         poly.convex = !degenerate && poly.is_convex_outline(verts);
         Ok(poly)
     }
@@ -332,6 +349,14 @@ impl<S: Scalar> Polygon<S> {
     #[inline]
     pub fn normal(&self) -> Vec3<S> {
         self.normal
+    }
+
+    /// The geometric normal of every hit: the unit normal as the tracer
+    /// normalises geometric normals ([`Vec3::hit_normal`]; zero for a
+    /// degenerate polygon).
+    #[inline(always)]
+    pub fn hit_normal(&self) -> Vec3<S> {
+        self.hit_normal
     }
 
     /// Shading normal at a point on the polygon: for a patch, the vertex

@@ -151,6 +151,30 @@ impl<S: Scalar> Shape<S> {
         }
     }
 
+    /// Unit outward geometric normals at the surface points `p`, as hits
+    /// report them: [`Shape::normals`] normalised
+    /// ([`Vec3xW::normalize_sparse`], zero where it has no length). Planes
+    /// and polygons return the one they store ([`Vec3::hit_normal`]), the
+    /// same bits without a square root and a division per hit.
+    #[inline(always)]
+    pub fn unit_normals<const W: usize>(&self, p: &Vec3xW<S, W>) -> Vec3xW<S, W> {
+        match self.stored_hit_normal() {
+            Some(n) => n.splat(),
+            None => self.normals(p).normalize_sparse().0,
+        }
+    }
+
+    /// The unit normal of every hit, for planes and polygons (see
+    /// [`Shape::unit_normals`]).
+    #[inline(always)]
+    fn stored_hit_normal(&self) -> Option<Vec3<S>> {
+        match self {
+            Shape::Plane(pl) => Some(pl.hit_normal()),
+            Shape::Polygon(pg) => Some(pg.hit_normal()),
+            _ => None,
+        }
+    }
+
     /// Whether the shading normal differs from the geometric one (polygon
     /// patches interpolate vertex normals).
     #[inline(always)]
@@ -190,5 +214,75 @@ impl<S: Scalar> Shape<S> {
             Shape::Quadric(q) => q.bounds(),
             _ => self.bounds(pool),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::num::fixed32::Fixed32;
+    use crate::num::test_rng::splitmix64;
+
+    /// A coordinate in `[−2, 2)` from the generator.
+    fn coord(state: &mut u64) -> f32 {
+        (splitmix64(state) >> 40) as f32 / (1u64 << 22) as f32 - 2.0
+    }
+
+    /// The bits of every lane of `v`, for exact comparisons (`-0.0` and
+    /// `0.0` differ).
+    fn bits<S: Scalar, const W: usize>(v: &Vec3xW<S, W>, to_bits: fn(S) -> u32) -> [[u32; W]; 3] {
+        [v.x.0.map(to_bits), v.y.0.map(to_bits), v.z.0.map(to_bits)]
+    }
+
+    /// Planes and polygons hand hits a stored unit normal: it must be the
+    /// bits that normalising their normal at the hit gives, at any width,
+    /// for each way they are built (coefficients, a point and a normal,
+    /// vertices, conversion into a fixed-point frame), degenerate polygons
+    /// included.
+    fn stored_normals_are_the_normalised_ones<S: Scalar>(to_bits: fn(S) -> u32) {
+        let mut state = 7;
+        let sim = Similarity::fitting([-2.0; 3], [2.0; 3], 1.0);
+        let mut checked = 0;
+        for i in 0..400 {
+            let mut c = || coord(&mut state);
+            // Every fourth one axis-aligned, as normals of real scenes often are.
+            let n = if i % 4 == 0 { [0.0, 0.0, c()] } else { [c(), c(), c()] };
+            let pts = [[c(), c(), c()], [c(), c(), c()], [c(), c(), c()]];
+            let f = |p: [f32; 3]| Vec3::<f32>::new(p[0], p[1], p[2]);
+            let s = |p: [f32; 3]| Vec3::<S>::from_f32(p[0], p[1], p[2]);
+            // A degenerate triangle (a repeated vertex) now and then.
+            let tri = if i % 10 == 0 { [pts[0], pts[1], pts[1]] } else { pts };
+            let mut shapes: [Option<Shape<S>>; 5] = [None; 5];
+            shapes[0] =
+                Plane::from_coefficients(S::from_f32(n[0]), S::from_f32(n[1]), S::from_f32(n[2]), S::from_f32(c()))
+                    .ok()
+                    .map(Shape::Plane);
+            shapes[1] = Plane::from_point_normal(s(pts[0]), s(n)).ok().map(Shape::Plane);
+            shapes[2] = Plane::from_point_normal(f(pts[0]), f(n)).ok().map(|p| Shape::Plane(p.similar(&sim)));
+            let pool_s = [s(tri[0]), s(tri[1]), s(tri[2])];
+            shapes[3] = Polygon::from_pool(&pool_s, 0, 3, false).ok().map(Shape::Polygon);
+            let pool_f = [f(tri[0]), f(tri[1]), f(tri[2])];
+            shapes[4] = Polygon::from_pool(&pool_f, 0, 3, false).ok().map(|p| Shape::Polygon(p.similar(&sim)));
+            for shape in shapes.iter().flatten() {
+                let p4 = Vec3::<S>::from_f32(c(), c(), c()).splat::<4>();
+                let (want, _) = shape.normals(&p4).normalize_sparse();
+                assert_eq!(bits(&shape.unit_normals(&p4), to_bits), bits(&want, to_bits), "{shape:?}");
+                let p1 = Vec3::<S>::from_f32(c(), c(), c()).splat::<1>();
+                let (want, _) = shape.normals(&p1).normalize_sparse();
+                assert_eq!(bits(&shape.unit_normals(&p1), to_bits), bits(&want, to_bits), "{shape:?}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 1500, "only {checked} shapes built");
+    }
+
+    #[test]
+    fn stored_plane_and_polygon_normals_are_the_normalised_ones_f32() {
+        stored_normals_are_the_normalised_ones::<f32>(f32::to_bits);
+    }
+
+    #[test]
+    fn stored_plane_and_polygon_normals_are_the_normalised_ones_fixed32() {
+        stored_normals_are_the_normalised_ones::<Fixed32>(|x| x.to_bits() as u32);
     }
 }

@@ -355,6 +355,11 @@ impl<C: Clock> DrawTarget for TimedPanel<'_, C> {
 /// `SCALAR.per-core.instructions` (the larger) and
 /// `SCALAR.lockstep.instructions` ([`Shares::lockstep`]); returns whether
 /// the render ran and every pixel was timed.
+///
+/// Out of line: a firmware rendering both scalars (the Cortex-M0 test
+/// image) then holds one scalar's frame state at a time, not both (about
+/// 5 KB each, of the chip's 16 KiB).
+#[inline(never)]
 pub fn run_shares<S: SlotScalar, const W: usize>(
     c: &mut impl Console,
     clock: &mut impl Clock,
