@@ -85,6 +85,27 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
     t_max: Lanes<S, W>,
     active: Mask<W>,
 ) -> Roots<S, W> {
+    slab_roots_leaving::<S, W, LEAVE_EARLY>(origin, dir, min, max, t_min, t_max, active)
+}
+
+/// Whether [`slab_roots`] leaves out, after each axis, the lanes that can
+/// no longer hit: where a division is a long routine (fixed point, soft
+/// float), not on x86, where it is one instruction and the tests would
+/// cost more than they spare.
+const LEAVE_EARLY: bool = !cfg!(any(target_arch = "x86", target_arch = "x86_64"));
+
+/// [`slab_roots`], leaving out lanes after each axis or not (the same
+/// result; both are tested on every host).
+#[inline(always)]
+fn slab_roots_leaving<S: Scalar, const W: usize, const LEAVE: bool>(
+    origin: Vec3xW<S, W>,
+    dir: Vec3xW<S, W>,
+    min: Vec3<S>,
+    max: Vec3<S>,
+    t_min: Lanes<S, W>,
+    t_max: Lanes<S, W>,
+    active: Mask<W>,
+) -> Roots<S, W> {
     // A ray outside a slab and not moving into it (the origin below `min`
     // with the direction component at most 0, or above `max` with it at
     // least 0) has its whole slab interval at `t <= 0`, which no `t_min ≥ 0`
@@ -97,7 +118,26 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
         return Roots::none();
     }
     let (nx, fx) = slab_axis(origin.x, dir.x, min.x, max.x);
+    // With `LEAVE`: lanes whose interval so far already lies outside
+    // `(t_min, t_max)`, or is empty, are left out before the next axis's
+    // two divisions. The final interval lies inside every partial one (the
+    // entry only grows, the exit only shrinks), so none of their roots
+    // would count: the same result. (A NaN compares false and stays in,
+    // as it would.)
+    let active = if LEAVE { active.and_not(nx.ge(t_max) | fx.le(t_min)) } else { active };
+    if LEAVE && active.none() {
+        return Roots::none();
+    }
     let (ny, fy) = slab_axis(origin.y, dir.y, min.y, max.y);
+    let active = if LEAVE {
+        let (n, f) = (nx.max(ny), fx.min(fy));
+        active.and_not(n.gt(f) | n.ge(t_max) | f.le(t_min))
+    } else {
+        active
+    };
+    if LEAVE && active.none() {
+        return Roots::none();
+    }
     let (nz, fz) = slab_axis(origin.z, dir.z, min.z, max.z);
     // The ray is inside the box between the last entry and the first exit.
     let t_near = nx.max(ny).max(nz);
@@ -234,5 +274,77 @@ mod tests {
             AaBox::new(Vec3::new(f32::INFINITY, 0.0, 0.0), Vec3::new(1.0, 1.0, 1.0)),
             Err(GeometryError::NonFinite)
         );
+    }
+
+    /// Leaving out lanes after each axis gives the same roots, bit for bit,
+    /// at widths 1 and 4, in f32 and Q8.24 (the early exits run on the
+    /// firmware targets, not on x86, so they are checked here): seeded
+    /// boxes and rays from inside and outside, directions with zero
+    /// components, intervals cut short and reaching behind the origin.
+    fn leaving_lanes_early_changes_no_root<S: Scalar, const W: usize>(to_bits: fn(S) -> u32) {
+        let mut x = 0x5ab5_u64 + W as u64;
+        let mut u = || (crate::num::test_rng::splitmix64(&mut x) >> 40) as f32 / (1u64 << 24) as f32;
+        let (mut hits, mut left) = (0, 0);
+        for _ in 0..3000 {
+            let c = [u() * 2.0 - 1.0, u() * 2.0 - 1.0, u() * 2.0 - 1.0];
+            let h = [u() * 0.5 + 0.01, u() * 0.5 + 0.01, u() * 0.5 + 0.01];
+            let min = Vec3::<S>::from_f32(c[0] - h[0], c[1] - h[1], c[2] - h[2]);
+            let max = Vec3::<S>::from_f32(c[0] + h[0], c[1] + h[1], c[2] + h[2]);
+            let lane = |u: &mut dyn FnMut() -> f32| {
+                let o = [u() * 4.0 - 2.0, u() * 4.0 - 2.0, u() * 4.0 - 2.0];
+                // Towards the box, or anywhere; a zero component now and then.
+                let toward = u() < 0.6;
+                let mut d = [0.0f32; 3];
+                for a in 0..3 {
+                    d[a] = if u() < 0.15 {
+                        0.0
+                    } else if toward {
+                        c[a] - o[a] + u() - 0.5
+                    } else {
+                        u() * 2.0 - 1.0
+                    };
+                }
+                let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1e-3);
+                let t_min = [0.0, 1.0e-4, -1.0, u()][(u() * 4.0) as usize % 4];
+                let t_max = if u() < 0.5 { f32::MAX } else { u() * 3.0 };
+                (o, [d[0] / n, d[1] / n, d[2] / n], t_min, t_max)
+            };
+            let lanes: [([f32; 3], [f32; 3], f32, f32); W] = core::array::from_fn(|_| lane(&mut u));
+            let v = |f: &dyn Fn(usize) -> [f32; 3]| -> Vec3xW<S, W> {
+                Vec3::new(
+                    Lanes(core::array::from_fn(|i| S::from_f32(f(i)[0]))),
+                    Lanes(core::array::from_fn(|i| S::from_f32(f(i)[1]))),
+                    Lanes(core::array::from_fn(|i| S::from_f32(f(i)[2]))),
+                )
+            };
+            let (o, d) = (v(&|i| lanes[i].0), v(&|i| lanes[i].1));
+            let t_min = Lanes(core::array::from_fn(|i| S::from_f32(lanes[i].2)));
+            let t_max =
+                Lanes(core::array::from_fn(|i| if lanes[i].3 == f32::MAX { S::MAX } else { S::from_f32(lanes[i].3) }));
+            let active = Mask::from_array(core::array::from_fn(|_| u() < 0.9));
+            let all = slab_roots_leaving::<S, W, false>(o, d, min, max, t_min, t_max, active);
+            let leaving = slab_roots_leaving::<S, W, true>(o, d, min, max, t_min, t_max, active);
+            let bits =
+                |r: &Roots<S, W>| (r.t0.0.map(to_bits), r.t1.0.map(to_bits), r.hit0.to_array(), r.hit1.to_array());
+            assert_eq!(bits(&leaving), bits(&all), "{lanes:?}");
+            hits += all.hit0.to_array().iter().filter(|&&h| h).count();
+            // Lanes the first axis alone would leave out.
+            let (nx, fx) = slab_axis(o.x, d.x, min.x, max.x);
+            left += (active & (nx.ge(t_max) | fx.le(t_min))).to_array().iter().filter(|&&a| a).count();
+        }
+        assert!(hits > 250 && left > 250, "{hits} hits, {left} lanes left out after x: too few to tell");
+    }
+
+    #[test]
+    fn leaving_lanes_early_changes_no_root_f32() {
+        leaving_lanes_early_changes_no_root::<f32, 1>(f32::to_bits);
+        leaving_lanes_early_changes_no_root::<f32, 4>(f32::to_bits);
+    }
+
+    #[test]
+    fn leaving_lanes_early_changes_no_root_fixed32() {
+        use crate::num::fixed32::Fixed32;
+        leaving_lanes_early_changes_no_root::<Fixed32, 1>(|x| x.to_bits() as u32);
+        leaving_lanes_early_changes_no_root::<Fixed32, 4>(|x| x.to_bits() as u32);
     }
 }
