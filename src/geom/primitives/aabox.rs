@@ -57,7 +57,7 @@ impl<S: Scalar> AaBox<S> {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Roots<S, W> {
-        slab_roots(ray.origin, ray.dir, self.min, self.max, t_min, t_max, active)
+        slab_roots(ray.origin, ray.dir, self.min, self.max, t_min, t_max, active, LEAVE_EARLY)
     }
 
     /// Outward normal at a point on the surface: the axis of the face the
@@ -68,6 +68,12 @@ impl<S: Scalar> AaBox<S> {
     }
 }
 
+/// Whether the kernels' slab tests leave out, after each axis, the lanes
+/// that can no longer hit ([`slab_roots`]): where a division is a long
+/// routine (fixed point, soft float), not on x86, where it is one
+/// instruction and the tests would cost more than they spare.
+pub(crate) const LEAVE_EARLY: bool = !cfg!(any(target_arch = "x86", target_arch = "x86_64"));
+
 /// Entry and exit of rays through the slabs `min <= x <= max` on each axis.
 ///
 /// Each axis gives an interval `[t_near, t_far]`; the box is hit where the
@@ -75,7 +81,12 @@ impl<S: Scalar> AaBox<S> {
 /// an axis (direction component exactly zero) is handled without dividing by
 /// zero: the slab is the whole line when the origin lies between its planes,
 /// and empty otherwise.
+///
+/// With `leave` (the kernels pass [`LEAVE_EARLY`]), lanes that can no
+/// longer hit are left out after each axis; the result is the same either
+/// way, and both are tested on every host.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn slab_roots<S: Scalar, const W: usize>(
     origin: Vec3xW<S, W>,
     dir: Vec3xW<S, W>,
@@ -84,27 +95,7 @@ pub(crate) fn slab_roots<S: Scalar, const W: usize>(
     t_min: Lanes<S, W>,
     t_max: Lanes<S, W>,
     active: Mask<W>,
-) -> Roots<S, W> {
-    slab_roots_leaving::<S, W, LEAVE_EARLY>(origin, dir, min, max, t_min, t_max, active)
-}
-
-/// Whether [`slab_roots`] leaves out, after each axis, the lanes that can
-/// no longer hit: where a division is a long routine (fixed point, soft
-/// float), not on x86, where it is one instruction and the tests would
-/// cost more than they spare.
-const LEAVE_EARLY: bool = !cfg!(any(target_arch = "x86", target_arch = "x86_64"));
-
-/// [`slab_roots`], leaving out lanes after each axis or not (the same
-/// result; both are tested on every host).
-#[inline(always)]
-fn slab_roots_leaving<S: Scalar, const W: usize, const LEAVE: bool>(
-    origin: Vec3xW<S, W>,
-    dir: Vec3xW<S, W>,
-    min: Vec3<S>,
-    max: Vec3<S>,
-    t_min: Lanes<S, W>,
-    t_max: Lanes<S, W>,
-    active: Mask<W>,
+    leave: bool,
 ) -> Roots<S, W> {
     // A ray outside a slab and not moving into it (the origin below `min`
     // with the direction component at most 0, or above `max` with it at
@@ -118,30 +109,26 @@ fn slab_roots_leaving<S: Scalar, const W: usize, const LEAVE: bool>(
         return Roots::none();
     }
     let (nx, fx) = slab_axis(origin.x, dir.x, min.x, max.x);
-    // With `LEAVE`: lanes whose interval so far already lies outside
+    // With `leave`: lanes whose interval so far already lies outside
     // `(t_min, t_max)`, or is empty, are left out before the next axis's
     // two divisions. The final interval lies inside every partial one (the
     // entry only grows, the exit only shrinks), so none of their roots
     // would count: the same result. (A NaN compares false and stays in,
     // as it would.)
-    let active = if LEAVE { active.and_not(nx.ge(t_max) | fx.le(t_min)) } else { active };
-    if LEAVE && active.none() {
+    let active = if leave { active.and_not(nx.ge(t_max) | fx.le(t_min)) } else { active };
+    if leave && active.none() {
         return Roots::none();
     }
     let (ny, fy) = slab_axis(origin.y, dir.y, min.y, max.y);
-    let active = if LEAVE {
-        let (n, f) = (nx.max(ny), fx.min(fy));
-        active.and_not(n.gt(f) | n.ge(t_max) | f.le(t_min))
-    } else {
-        active
-    };
-    if LEAVE && active.none() {
+    let (n, f) = (nx.max(ny), fx.min(fy));
+    let active = if leave { active.and_not(n.gt(f) | n.ge(t_max) | f.le(t_min)) } else { active };
+    if leave && active.none() {
         return Roots::none();
     }
     let (nz, fz) = slab_axis(origin.z, dir.z, min.z, max.z);
     // The ray is inside the box between the last entry and the first exit.
-    let t_near = nx.max(ny).max(nz);
-    let t_far = fx.min(fy).min(fz);
+    let t_near = n.max(nz);
+    let t_far = f.min(fz);
     let hit = active & t_near.le(t_far);
     if hit.none() {
         return Roots::none();
@@ -322,8 +309,8 @@ mod tests {
             let t_max =
                 Lanes(core::array::from_fn(|i| if lanes[i].3 == f32::MAX { S::MAX } else { S::from_f32(lanes[i].3) }));
             let active = Mask::from_array(core::array::from_fn(|_| u() < 0.9));
-            let all = slab_roots_leaving::<S, W, false>(o, d, min, max, t_min, t_max, active);
-            let leaving = slab_roots_leaving::<S, W, true>(o, d, min, max, t_min, t_max, active);
+            let all = slab_roots(o, d, min, max, t_min, t_max, active, false);
+            let leaving = slab_roots(o, d, min, max, t_min, t_max, active, true);
             let bits =
                 |r: &Roots<S, W>| (r.t0.0.map(to_bits), r.t1.0.map(to_bits), r.hit0.to_array(), r.hit1.to_array());
             assert_eq!(bits(&leaving), bits(&all), "{lanes:?}");

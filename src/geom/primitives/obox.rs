@@ -1,6 +1,6 @@
 //! Oriented box: centre, half-extents and an orthonormal frame.
 
-use super::aabox::{face_normals, slab_roots};
+use super::aabox::{face_normals, slab_roots, LEAVE_EARLY};
 use super::error::GeometryError;
 use crate::geom::ray::{RayPacket, Roots};
 use crate::geom::uniform_scale::Similarity;
@@ -95,7 +95,7 @@ impl<S: Scalar> OrientedBox<S> {
         let rel = ray.origin.sub_splat(self.center);
         let o = Vec3::new(rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
         let d = Vec3::new(ray.dir.dot_splat(self.u), ray.dir.dot_splat(self.v), ray.dir.dot_splat(self.w));
-        slab_roots(o, d, -self.half, self.half, t_min, t_max, active)
+        slab_roots(o, d, -self.half, self.half, t_min, t_max, active, LEAVE_EARLY)
     }
 
     /// Outward normals at the points `p` on the surface: the nearest face's

@@ -313,14 +313,15 @@ impl<S: Scalar> Polygon<S> {
             // (x86 with AVX-512, `raypack bench` on gears-2).
             let skip = W < 8;
             let (mut v_lo, mut v_hi) = (S::MAX, -S::MAX);
-            for i in 0..if skip { W } else { 0 } {
-                let v = pv.0[i];
-                if r.hit0.get(i) {
-                    if v < v_lo {
-                        v_lo = v;
-                    }
-                    if v > v_hi {
-                        v_hi = v;
+            if skip {
+                for (i, &v) in pv.0.iter().enumerate() {
+                    if r.hit0.get(i) {
+                        if v < v_lo {
+                            v_lo = v;
+                        }
+                        if v > v_hi {
+                            v_hi = v;
+                        }
                     }
                 }
             }
