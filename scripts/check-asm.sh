@@ -2,8 +2,8 @@
 # Checks the machine code of the dispatched render path (x86-64 only):
 #  1. no fused multiply-add (vfmadd/vfmsub/vfnmadd/vfnmsub) anywhere in the
 #     release binary: FMA would change the bits of the results;
-#  2. the AVX2 entry points (the render loop `dispatch::run_avx2`, the
-#     tracer `dispatch::job_avx2` and the queries `dispatch::closest_hit_avx2`
+#  2. the AVX2 entry points (the render loop `dispatch::…::run_avx2`, the
+#     tracer `…::job_avx2` and the queries `…::closest_hit_avx2`
 #     / `transmittance_avx2`) contain packed 256-bit `ymm` arithmetic, and
 #     the AVX-512 ones 512-bit `zmm`;
 #  3. the dispatched code calls no raypack packet function out of line (an
@@ -37,7 +37,7 @@ echo "check-asm: fused multiply-add instructions in the binary: $fma"
 # Per entry point: its instruction count and how many use ymm / zmm.
 summary=$(awk '
     /^[0-9a-f]+ <.*>:$/ { if (fn != "") print fn, n, y, z; fn = ""; n = y = z = 0 }
-    /^[0-9a-f]+ <raypack::host::dispatch::(run|job|closest_hit|transmittance)_avx(2|512)<.*>:$/ || /^[0-9a-f]+ <raypack::host::dispatch::(run|job|closest_hit|transmittance)_avx(2|512)>:$/ {
+    /^[0-9a-f]+ <raypack::host::dispatch::([a-z0-9_]+::)*(run|job|closest_hit|transmittance)_avx(2|512)<.*>:$/ || /^[0-9a-f]+ <raypack::host::dispatch::([a-z0-9_]+::)*(run|job|closest_hit|transmittance)_avx(2|512)>:$/ {
         fn = (($2 ~ /512/) ? "avx512" : "avx2") (($2 ~ /::run_/) ? " render-path" : (($2 ~ /::job_/) ? " tracer" : " queries")); next }
     fn != "" && /\t/ { n++; if (/%ymm/) y++; if (/%zmm/) z++ }
     END { if (fn != "") print fn, n, y, z }' "$asm")
@@ -51,17 +51,17 @@ for part in render-path tracer queries; do
 done
 
 calls=$(awk '
-    /^[0-9a-f]+ <.*>:$/ { on = ($0 ~ /<raypack::host::dispatch::(run|job|closest_hit|transmittance)_avx(2|512)(<.*>)?>:$/); next }
+    /^[0-9a-f]+ <.*>:$/ { on = ($0 ~ /<raypack::host::dispatch::([a-z0-9_]+::)*(run|job|closest_hit|transmittance)_avx(2|512)(<.*>)?>:$/); next }
     on && /call/ && /<raypack::/ { sub(/^.*call +[0-9a-f]+ /, ""); print }' "$asm" | sort | uniq -c)
 echo "check-asm: raypack functions called from dispatched code:"
 echo "${calls:-    (none)}" | sed 's/^/    /'
-bad=$(echo "$calls" | grep '<raypack::' | grep -vE 'Polygon<S>::shading_normal>|Tracer<S,A,_>::patch_normals>|<raypack::host::dispatch::(job|closest_hit|transmittance)_avx(2|512)' || true)
+bad=$(echo "$calls" | grep '<raypack::' | grep -vE 'Polygon<S>::shading_normal>|Tracer<S,A,_>::patch_normals>|<raypack::host::dispatch::([a-z0-9_]+::)*(job|closest_hit|transmittance)_avx(2|512)' || true)
 if [ -n "$bad" ]; then
     echo "check-asm: packet code called out of line (compiled for the baseline only):" >&2
     echo "$bad" >&2
     fail=1
 fi
-querycalls=$(echo "$calls" | grep -cE '<raypack::host::dispatch::(job|closest_hit|transmittance)_avx(2|512)' || true)
+querycalls=$(echo "$calls" | grep -cE '<raypack::host::dispatch::([a-z0-9_]+::)*(job|closest_hit|transmittance)_avx(2|512)' || true)
 [ "$querycalls" -gt 0 ] || { echo "check-asm: the dispatched code never calls the per-ISA tracer and queries" >&2; fail=1; }
 [ "$fail" -eq 0 ] && echo "check-asm: ok"
 exit "$fail"

@@ -178,105 +178,119 @@ pub trait IsaKernel {
     fn run(self) -> Self::Output;
 }
 
-#[inline(never)]
-fn run_baseline<K: IsaKernel>(kernel: K) -> K::Output {
-    kernel.run()
-}
-
-/// # Safety
-/// The CPU must support AVX2.
-#[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
-#[inline(never)]
-#[target_feature(enable = "avx2")]
-unsafe fn run_avx2<K: IsaKernel>(kernel: K) -> K::Output {
-    kernel.run()
-}
-
-/// # Safety
-/// The CPU must support AVX-512 F, VL, BW and DQ.
-#[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
-#[inline(never)]
-#[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq")]
-unsafe fn run_avx512<K: IsaKernel>(kernel: K) -> K::Output {
-    kernel.run()
-}
-
 /// Queries of an accelerator, compiled as functions of their own: the
 /// pieces of the render path that [`render_rect`] cuts off (see the module
 /// documentation). One type per instruction set; the AVX2 and AVX-512 ones
 /// are made only by [`render_rect`], after run-time detection, which is
 /// what makes their `unsafe` calls sound.
 macro_rules! isa_queries {
-    ($(#[$doc:meta])* $name:ident, $job:ident, $closest:ident, $shadow:ident, $(#[$tf:meta])*) => {
-        $(#[$doc])*
-        #[derive(Clone, Copy, Debug)]
-        struct $name<A>(A);
+    ($(#[$doc:meta])* $module:ident, $name:ident, $job:ident, $closest:ident, $shadow:ident, $(#[$tf:meta])*; $($entry:item)*) => {
+        mod $module {
+            use super::*;
 
-        impl<S: Scalar, A: Accelerator<S>> Accelerator<S> for $name<A> {
-            fn check(&self, scene: &SceneView<'_, S>) -> Result<(), SceneMismatch> {
-                self.0.check(scene)
+            $($entry)*
+
+            $(#[$doc])*
+            #[derive(Clone, Copy, Debug)]
+            pub(super) struct $name<A>(pub(super) A);
+
+            impl<S: Scalar, A: Accelerator<S>> Accelerator<S> for $name<A> {
+                fn check(&self, scene: &SceneView<'_, S>) -> Result<(), SceneMismatch> {
+                    self.0.check(scene)
+                }
+                #[inline(always)]
+                fn run<J: PacketJob>(&self, job: J) -> J::Output {
+                    // SAFETY: a value of this type exists only where the CPU
+                    // supports the instruction set `$job` is compiled for.
+                    unsafe { $job(job) }
+                }
+                #[inline(always)]
+                fn closest_hit<const W: usize>(&self, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Hit<S, W> {
+                    // SAFETY: a value of this type exists only where the CPU
+                    // supports the instruction set `$closest` is compiled for
+                    // (see `render_rect`; the baseline needs nothing).
+                    unsafe { $closest(&self.0, scene, ray, t_min, t_max, active) }
+                }
+                #[inline(always)]
+                fn transmittance<const W: usize>(&self, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Lanes<S, W> {
+                    // SAFETY: as for `closest_hit`.
+                    unsafe { $shadow(&self.0, scene, ray, t_min, t_max, active) }
+                }
             }
-            #[inline(always)]
-            fn run<J: PacketJob>(&self, job: J) -> J::Output {
-                // SAFETY: a value of this type exists only where the CPU
-                // supports the instruction set `$job` is compiled for.
-                unsafe { $job(job) }
+
+            /// # Safety
+            /// The CPU must support the instruction set this is compiled for.
+            #[inline(never)]
+            $(#[$tf])*
+            unsafe fn $job<J: PacketJob>(job: J) -> J::Output {
+                job.run()
             }
-            #[inline(always)]
-            fn closest_hit<const W: usize>(&self, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Hit<S, W> {
-                // SAFETY: a value of this type exists only where the CPU
-                // supports the instruction set `$closest` is compiled for
-                // (see `render_rect`; the baseline needs nothing).
-                unsafe { $closest(&self.0, scene, ray, t_min, t_max, active) }
+
+            /// # Safety
+            /// The CPU must support the instruction set this is compiled for.
+            #[inline(never)]
+            $(#[$tf])*
+            unsafe fn $closest<S: Scalar, A: Accelerator<S>, const W: usize>(a: &A, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Hit<S, W> {
+                a.closest_hit(scene, ray, t_min, t_max, active)
             }
-            #[inline(always)]
-            fn transmittance<const W: usize>(&self, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Lanes<S, W> {
-                // SAFETY: as for `closest_hit`.
-                unsafe { $shadow(&self.0, scene, ray, t_min, t_max, active) }
+
+            /// # Safety
+            /// The CPU must support the instruction set this is compiled for.
+            #[inline(never)]
+            $(#[$tf])*
+            unsafe fn $shadow<S: Scalar, A: Accelerator<S>, const W: usize>(a: &A, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Lanes<S, W> {
+                a.transmittance(scene, ray, t_min, t_max, active)
             }
         }
-
-        /// # Safety
-        /// The CPU must support the instruction set this is compiled for.
-        #[inline(never)]
-        $(#[$tf])*
-        unsafe fn $job<J: PacketJob>(job: J) -> J::Output {
-            job.run()
-        }
-
-        /// # Safety
-        /// The CPU must support the instruction set this is compiled for.
-        #[inline(never)]
-        $(#[$tf])*
-        unsafe fn $closest<S: Scalar, A: Accelerator<S>, const W: usize>(a: &A, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Hit<S, W> {
-            a.closest_hit(scene, ray, t_min, t_max, active)
-        }
-
-        /// # Safety
-        /// The CPU must support the instruction set this is compiled for.
-        #[inline(never)]
-        $(#[$tf])*
-        unsafe fn $shadow<S: Scalar, A: Accelerator<S>, const W: usize>(a: &A, scene: &SceneView<'_, S>, ray: &RayPacket<S, W>, t_min: Lanes<S, W>, t_max: Lanes<S, W>, active: Mask<W>) -> Lanes<S, W> {
-            a.transmittance(scene, ray, t_min, t_max, active)
-        }
+        use $module::$name;
     };
 }
 
+// One module per instruction set, holding its entry point, its tracer and
+// its queries: rustc puts a module's code (generic instantiations included)
+// in one codegen unit, and one LLVM thread compiles a unit, so the release
+// build compiles the instruction sets' copies side by side instead of one
+// after the other. Each set's pieces stay in one unit: with the queries in
+// units of their own, the scalar tracer (packets of 1) ran 4–7 % slower
+// (docs/performance.md, "The release build").
 isa_queries!(
     /// Queries compiled for the baseline instruction set.
-    BaselineQueries, job_baseline, closest_hit_baseline, transmittance_baseline,
+    baseline, BaselineQueries, job_baseline, closest_hit_baseline, transmittance_baseline, ;
+    #[inline(never)]
+    pub(super) fn run_baseline<K: IsaKernel>(kernel: K) -> K::Output {
+        kernel.run()
+    }
 );
+use baseline::run_baseline;
 #[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
 isa_queries!(
     /// Queries compiled for AVX2 (made only once AVX2 was detected).
-    Avx2Queries, job_avx2, closest_hit_avx2, transmittance_avx2, #[target_feature(enable = "avx2")]
+    avx2, Avx2Queries, job_avx2, closest_hit_avx2, transmittance_avx2, #[target_feature(enable = "avx2")];
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[inline(never)]
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn run_avx2<K: IsaKernel>(kernel: K) -> K::Output {
+        kernel.run()
+    }
 );
+#[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
+use avx2::run_avx2;
 #[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
 isa_queries!(
     /// Queries compiled for AVX-512 F, VL, BW and DQ (made only once all
     /// four were detected).
-    Avx512Queries, job_avx512, closest_hit_avx512, transmittance_avx512, #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq")]
+    avx512, Avx512Queries, job_avx512, closest_hit_avx512, transmittance_avx512, #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq")];
+    /// # Safety
+    /// The CPU must support AVX-512 F, VL, BW and DQ.
+    #[inline(never)]
+    #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq")]
+    pub(super) unsafe fn run_avx512<K: IsaKernel>(kernel: K) -> K::Output {
+        kernel.run()
+    }
 );
+#[cfg(any(target_arch = "x86_64", target_arch = "x86"))]
+use avx512::run_avx512;
 
 /// [`Renderer::render_rect`] as an [`IsaKernel`].
 struct RenderRect<'r, 'a, 'o, 's, S, A, const D: usize, const W: usize> {
