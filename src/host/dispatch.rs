@@ -178,11 +178,13 @@ pub trait IsaKernel {
     fn run(self) -> Self::Output;
 }
 
-/// Queries of an accelerator, compiled as functions of their own: the
-/// pieces of the render path that [`render_rect`] cuts off (see the module
-/// documentation). One type per instruction set; the AVX2 and AVX-512 ones
-/// are made only by [`render_rect`], after run-time detection, which is
-/// what makes their `unsafe` calls sound.
+/// A module for one instruction set: its entry point (the items after the
+/// `;`), and the tracer and queries of an accelerator compiled as functions
+/// of their own: the pieces of the render path that [`render_rect`] cuts
+/// off (see the module documentation). One accelerator type per
+/// instruction set; the AVX2 and AVX-512 ones are made only by
+/// [`render_rect`], after run-time detection, which is what makes their
+/// `unsafe` calls sound.
 macro_rules! isa_queries {
     ($(#[$doc:meta])* $module:ident, $name:ident, $job:ident, $closest:ident, $shadow:ident, $(#[$tf:meta])*; $($entry:item)*) => {
         mod $module {
