@@ -165,7 +165,10 @@ impl<S: Scalar> Shape<S> {
     }
 
     /// The unit normal of every hit, for planes and polygons (see
-    /// [`Shape::unit_normals`]).
+    /// [`Shape::unit_normals`]). A match of its own: with the three arms in
+    /// `unit_normals`' one match (the same bits), LLVM inlined the tracer
+    /// differently and the Cortex-M55's width-4 frame took 44 020 281
+    /// instructions instead of 40 896 937 (the Cortex-M0's 0.2 % fewer).
     #[inline(always)]
     fn stored_hit_normal(&self) -> Option<Vec3<S>> {
         match self {
