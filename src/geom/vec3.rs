@@ -224,9 +224,18 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
         } else {
             (self, [0; W])
         };
-        let len = if SPARSE { v.dot_sparse(v) } else { v.length_squared() }.sqrt();
-        let ok = len.gt(Lanes::zero()) & len.finite();
-        let inv = Lanes::splat(S::ONE).div_nonzero(Lanes::select(ok, len, Lanes::splat(S::ZERO)));
+        let squared = if SPARSE { v.dot_sparse(v) } else { v.length_squared() };
+        let (len, inv, ok) = if S::NORMALIZE_BY_INVERSE_SQRT {
+            // Fixed point: one reciprocal root, then the length from it
+            // (|v|²·(1/|v|) = |v|, one product).
+            let ok = squared.gt(Lanes::zero());
+            let inv = squared.map(S::inverse_sqrt);
+            (squared * inv, inv, ok)
+        } else {
+            let len = squared.sqrt();
+            let ok = len.gt(Lanes::zero()) & len.finite();
+            (len, Lanes::splat(S::ONE).div_nonzero(Lanes::select(ok, len, Lanes::splat(S::ZERO))), ok)
+        };
         let n = if SPARSE { v.scale_sparse(inv) } else { v.scale(inv) };
         let length = if S::NORMALIZE_PRESCALE { len.mul_pow2(k.map(|k| -k)) } else { len };
         (Self::select(ok, n, Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero())), length, ok)

@@ -791,23 +791,11 @@ fn ratio_raw(num: u32, den: u32, words: impl Fn(u32, u32, u32) -> (u32, u32)) ->
 const RSQRT_SEED: [u8; 24] =
     [241, 214, 191, 171, 154, 138, 124, 112, 101, 90, 81, 72, 64, 56, 49, 43, 37, 31, 25, 20, 15, 11, 6, 2];
 
-/// `round(√(a·2^FRAC))` for `0 < a < 2³¹`.
-///
-/// Why this route: the bit-by-bit integer square root of a 55-bit number is
-/// a 28-iteration loop of 64-bit operations (≈ 300 instructions on a 32-bit
-/// core); a reciprocal-square-root estimate needs a few 16-bit products, and
-/// residuals computed exactly in 32 bits turn the estimate into the
-/// correctly rounded root.
+/// `y ≈ 2³¹/√t` for `t ∈ [2³⁰, 2³²)`, `y ∈ (2¹⁵, 2¹⁶)`, to 2⁻¹⁵
+/// (the resolution of `y`): the 16-bit reciprocal square root that
+/// [`sqrt_raw`] and [`rsqrt_raw`] refine.
 #[inline(always)]
-fn sqrt_raw(a: u32) -> u32 {
-    // n = a·2^FRAC = g·2^F' with F' = FRAC rounded down to even.
-    let odd = FRAC & 1;
-    let g = a << odd; // < 2³²
-                      // Normalise by an even shift: t = g·4^(z/2) ∈ [2³⁰, 2³²), so that
-                      // √n = √(t·2³²)·2^−k with k = 16 − F'/2 + z/2 ≥ 3.
-    let z = clz(g) & !1;
-    let t = g.wrapping_shl(z); // z ≤ 30
-    let k = (16 - (FRAC - odd) / 2).wrapping_add(z / 2);
+fn rsqrt16(t: u32) -> u32 {
     // y ≈ 2³¹/√t = 2¹⁵/√T (T = t/2³² ∈ [¼, 1)), y ∈ (2¹⁵, 2¹⁶): seed, then
     // Newton y ← y + y·(1 − T·y²)/2 (converges from below).
     let seed = match RSQRT_SEED.get(((t >> 27) as usize).wrapping_sub(8)) {
@@ -826,6 +814,71 @@ fn sqrt_raw(a: u32) -> u32 {
     let u = (ty >> 15).wrapping_mul(y) >> 15;
     let h = (1i32 << 16).wrapping_sub(u as i32);
     y = y.wrapping_add((((y >> 1) as i32).wrapping_mul(h) >> 16) as u32);
+    y
+}
+
+/// `2³⁶/√a` for `0 < a < 2³¹`, saturating at `RAW_MAX`:
+/// the Q8.24 reciprocal square root of `a/2^FRAC` (FRAC = 24).
+///
+/// Why this route: normalising a vector took a correctly rounded square
+/// root and a correctly rounded division (about 310 instructions on the
+/// Cortex-M0); the reciprocal root is what the normalisation multiplies
+/// by, and one Newton step at full precision on [`rsqrt16`]'s estimate
+/// gives it in a third of that.
+///
+/// With `a = t·4^(−j)` (`t ∈ [2³⁰, 2³²)`, an even shift) and `T = t/2³²`,
+/// `2³⁶/√a = 2^(20+j)/√T = Y·2^(j−10)` for `Y = 2³⁰/√T ∈ (2³⁰, 2³¹]`. From
+/// `y ≈ 2¹⁵/√T` (relative error `ε ≤ 2⁻¹⁵`), one Newton step
+/// `Y = y·2¹⁵·(1 + h/2)`, `h = 1 − T·y²/2³⁰`, leaves `1.5·ε² < 2⁻²⁸`:
+/// `T·y²·2³² = t·y²` is an exact 64-bit product (`y² < 2³²`), so `h·2⁶²`
+/// is exact, and the correction `y·2¹⁵·h/2 = y·(h·2⁶²)/2⁴⁸` (about 2¹⁶) is
+/// formed from `h`'s top 16 bits, within a few units of `Y`'s 2⁻³⁰. The
+/// shift to `2^(j−10)` rounds half up: the result is within half a unit
+/// plus `2⁻²⁷` of itself of `2³⁶/√a` (so within 0.6 of a unit for every `a`
+/// of at least 2²², a squared length of at least ¼, which the
+/// normalisation's prescale gives); `a` below 2¹⁰ saturates.
+#[inline(always)]
+fn rsqrt_raw(a: u32) -> u32 {
+    const _: () = assert!(FRAC == 24);
+    let z = clz(a) & !1;
+    let t = a.wrapping_shl(z); // z ≤ 30
+    let y = rsqrt16(t);
+    // h·2⁶² = 2⁶² − t·y² (|h| < 2⁻¹³: fits an i64 with room).
+    let h = ((1u64 << 62) as i64).wrapping_sub(wmul(t, y.wrapping_mul(y)) as i64);
+    // y·(h·2⁶²)/2⁴⁸ = (y/2)·(h·2⁶²/2³³)/2¹⁴: both factors below 2¹⁶ in magnitude.
+    let c = ((y >> 1) as i32).wrapping_mul((h >> 33) as i32) >> 14;
+    let big_y = (y << 15).wrapping_add_signed(c); // ≈ 2³⁰/√T, at most 2³¹ + a few
+                                                  // Y·2^(j−10), j = z/2: a right shift by 10 − j ≥ 1, rounded half up,
+                                                  // or (j ≥ 10) at least 2³⁰·2^(j−10): saturated from j = 11 on.
+    let sh = 10i32.wrapping_sub((z / 2) as i32);
+    if sh >= 1 {
+        big_y.wrapping_add(1 << (sh - 1)) >> sh
+    } else if sh == 0 {
+        big_y.min(RAW_MAX as u32)
+    } else {
+        RAW_MAX as u32
+    }
+}
+
+/// `round(√(a·2^FRAC))` for `0 < a < 2³¹`.
+///
+/// Why this route: the bit-by-bit integer square root of a 55-bit number is
+/// a 28-iteration loop of 64-bit operations (≈ 300 instructions on a 32-bit
+/// core); a reciprocal-square-root estimate needs a few 16-bit products, and
+/// residuals computed exactly in 32 bits turn the estimate into the
+/// correctly rounded root.
+#[inline(always)]
+fn sqrt_raw(a: u32) -> u32 {
+    // n = a·2^FRAC = g·2^F' with F' = FRAC rounded down to even.
+    let odd = FRAC & 1;
+    let g = a << odd; // < 2³²
+                      // Normalise by an even shift: t = g·4^(z/2) ∈ [2³⁰, 2³²), so that
+                      // √n = √(t·2³²)·2^−k with k = 16 − F'/2 + z/2 ≥ 3.
+    let z = clz(g) & !1;
+    let t = g.wrapping_shl(z); // z ≤ 30
+    let k = (16 - (FRAC - odd) / 2).wrapping_add(z / 2);
+    // y ≈ 2³¹/√t, to 16 bits.
+    let y = rsqrt16(t);
     // Top 16 bits: s ≈ √t = t·y/2³¹ (within −1…+2 of ⌊√t⌋); make it exact
     // with the residual δ = t − s² (exact: |δ| < 2³¹, wrapped arithmetic).
     let mut s = (mul16x32(y, t) >> 31) as u32;
@@ -1251,6 +1304,18 @@ impl Scalar for Fixed32 {
         }
         // r < 2^(15.5 + FRAC/2) ≤ 2²⁹: always fits.
         Fixed32(sqrt_raw(self.0 as u32) as i32)
+    }
+    const NORMALIZE_BY_INVERSE_SQRT: bool = true;
+    /// Within half a unit plus `2⁻²⁷` of itself of `1/√self` (so not
+    /// always the correctly rounded value; see docs/fixed-point.md,
+    /// "Normalisation by a reciprocal square root"); `MAX` for
+    /// `self <= 0`. Out of line, like `sqrt`.
+    #[inline(never)]
+    fn inverse_sqrt(self) -> Self {
+        if self.0 <= 0 {
+            return Self::MAX;
+        }
+        Fixed32(rsqrt_raw(self.0 as u32) as i32)
     }
     /// `self^e` for `self ∈ [0, 1]`, `e ≥ 0`: `e ≤ 0` or `self ≥ 1` give 1,
     /// `self ≤ 0` (with `e > 0`) gives 0. Absolute error ≤ 2⁻¹⁹ measured
@@ -1883,6 +1948,36 @@ mod tests {
         // (r − ½)² ≤ n < (r + ½)², i.e. (2r − 1)² ≤ 4n < (2r + 1)².
         let n = (raw as i128) << FRAC;
         assert!((2 * r - 1) * (2 * r - 1) <= 4 * n && 4 * n < (2 * r + 1) * (2 * r + 1), "sqrt({raw}) = {r}");
+    }
+
+    #[test]
+    fn inverse_sqrt_is_within_half_a_unit_and_two_to_the_minus_27() {
+        // |r − 2³⁶/√raw| ≤ ½ + 2⁻²⁷·2³⁶/√raw (the exact value saturated at
+        // RAW_MAX): at most 0.6 of a unit for squared lengths of ¼ and up,
+        // where the normalisation uses it.
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let seeded = (0..200_000).map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            // Spread over every magnitude: a random mantissa, a random shift.
+            ((x >> 33) as u32 >> ((x & 31) as u32)).max(1) as i32
+        });
+        let edges = (0..31).flat_map(|k| [(1i32 << k) - 1, 1 << k, (1 << k) + 1]).filter(|&a| a > 0);
+        let sweep = (1u32 << 10..RAW_MAX as u32).step_by(9_973).map(|a| a as i32);
+        for raw in (1..4096).chain(edges).chain(seeded).chain(sweep).chain([RAW_MAX, RAW_ONE, 3 * RAW_ONE]) {
+            let r = Fixed32::from_bits(raw).inverse_sqrt().to_bits() as f64;
+            let exact = 2f64.powi(36) / (raw as f64).sqrt();
+            let err = (r - exact.min(RAW_MAX as f64)).abs();
+            assert!(err <= 0.5 + exact * 2f64.powi(-27), "inverse_sqrt({raw}) = {r}, off by {err} units");
+            if raw >= 1 << 22 {
+                assert!(err <= 0.6, "inverse_sqrt({raw}) = {r}, off by {err} units");
+            }
+        }
+        assert_eq!(Fixed32::from_bits(0).inverse_sqrt(), Fixed32::MAX);
+        assert_eq!(Fixed32::from_bits(-5).inverse_sqrt(), Fixed32::MAX);
+        assert_eq!(Fixed32::ONE.inverse_sqrt(), Fixed32::ONE);
+        assert_eq!(Fixed32::from_f32(4.0).inverse_sqrt(), Fixed32::HALF);
     }
 
     #[test]

@@ -90,6 +90,14 @@ pub trait Scalar:
     /// squares overflow for long vectors and lose their digits for short
     /// ones. `false` for `f32`, whose exponent does that for free.
     const NORMALIZE_PRESCALE: bool = false;
+    /// Whether [`Vec3xW::normalize`](crate::geom::vec3::Vec3xW::normalize)
+    /// multiplies by [`Scalar::inverse_sqrt`] of the squared length
+    /// (and takes the length as the squared length times it) rather than
+    /// dividing by the square root: for fixed point, where the reciprocal
+    /// root costs a third of a square root and a division. `false` for
+    /// `f32`, whose `sqrt` and `/` are correctly rounded and, on most
+    /// targets, instructions.
+    const NORMALIZE_BY_INVERSE_SQRT: bool = false;
     /// Whether code may skip a product whose constant factor is zero: `true`
     /// when `x·0 = 0` and `x + 0 = x` hold bit for bit for every `x` (no
     /// signed zeros, no NaN) and a product costs more than a compare and a
@@ -160,6 +168,14 @@ pub trait Scalar:
     /// Square root, correctly rounded. Negative input gives a value the caller
     /// must mask out (NaN for `f32`).
     fn sqrt(self) -> Self;
+    /// `1/√self` for `self > 0`, used by the normalisation where
+    /// [`Scalar::NORMALIZE_BY_INVERSE_SQRT`] holds; other input gives a
+    /// value the caller must mask out. The default divides one by the
+    /// square root.
+    #[inline(always)]
+    fn inverse_sqrt(self) -> Self {
+        Self::ONE / self.sqrt()
+    }
     /// `self` raised to the power `e`, for `self` in `[0, 1]` and `e >= 0`
     /// (the Phong highlight). Deterministic on every target.
     fn powf(self, e: Self) -> Self;

@@ -390,6 +390,97 @@ impl<S: Scalar> Occluder<S> {
     const NONE: Self = Occluder { dlo: Vec3::ZERO, dhi: Vec3::ZERO, axis: Vec3::ZERO, limit: S::MAX };
 }
 
+/// A set of entries of one light's occluder row: bit `e` for entry `e`
+/// (the row holds at most [`SHADOW_OCCLUDERS`] ≤ 32).
+type EntryMask = u32;
+
+const _: () = assert!(SHADOW_OCCLUDERS <= EntryMask::BITS as usize);
+
+/// Cells per component of the shadow directions (see [`DirectionCells`]).
+const DIRECTION_CELLS: usize = 16;
+
+/// One component of the shadow directions towards one light, cut into
+/// [`DIRECTION_CELLS`] cells, with the entries whose direction box meets
+/// each cell: the three components' cells of a direction, intersected,
+/// hold every entry whose box holds the direction, so a shadow ray tests
+/// only those entries' boxes and cones (most rays: one or two of the
+/// row's entries).
+///
+/// A component `v` falls in cell `clamp(⌊(v − origin)·2^shift⌋, 0, N − 1)`.
+/// That is a non-decreasing function of `v` in every scalar (a rounded
+/// subtraction, a rounded product by a power of two, a floor and a clamp
+/// each are), so `lo ≤ v ≤ hi` puts `v`'s cell between those of `lo` and
+/// `hi`: an entry marked in every cell from its box's `dlo` component's
+/// to its `dhi` component's is marked in the cell of every direction its
+/// box holds. The bounds and the directions are placed by the same
+/// function on the same numbers, so no margin is needed, and the set of
+/// candidates is the one testing every entry gives, bit for bit.
+/// `origin` and `shift` only decide how well the cells separate the
+/// entries: the window spans the entries' boxes on this axis.
+#[derive(Clone, Copy, Debug)]
+struct DirectionCells<S> {
+    origin: S,
+    shift: i32,
+    /// `2^shift`, for scalars whose product by a power of two is not a
+    /// shift ([`Scalar::SPARSE_PRODUCTS`] false).
+    scale: S,
+    cells: [EntryMask; DIRECTION_CELLS],
+}
+
+impl<S: Scalar> DirectionCells<S> {
+    /// No entries.
+    const NONE: Self = DirectionCells { origin: S::ZERO, shift: 0, scale: S::ONE, cells: [0; DIRECTION_CELLS] };
+
+    /// The cells of component `axis` for the entries `row`.
+    fn new(row: &[Occluder<S>], axis: usize) -> Self {
+        let mut c = Self::NONE;
+        let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+        for o in row {
+            lo = lo.min(o.dlo.axis(axis).to_f32());
+            hi = hi.max(o.dhi.axis(axis).to_f32());
+        }
+        if !(lo <= hi) {
+            return c;
+        }
+        // The largest power of two (within 2⁻⁴ … 2¹⁶) that brings the
+        // window's width to at most N cells.
+        let width = (hi - lo).max(1.0 / 65536.0);
+        let n = DIRECTION_CELLS as f32;
+        let mut shift = 0;
+        while shift < 16 && width * libm::ldexpf(1.0, shift + 1) <= n {
+            shift += 1;
+        }
+        while shift > -4 && width * libm::ldexpf(1.0, shift) > n {
+            shift -= 1;
+        }
+        c.origin = S::from_f32(lo);
+        c.shift = shift;
+        c.scale = S::from_f32(libm::ldexpf(1.0, shift));
+        for (e, o) in row.iter().enumerate() {
+            let (first, last) = (c.cell(o.dlo.axis(axis)), c.cell(o.dhi.axis(axis)));
+            for cell in c.cells.iter_mut().take(last + 1).skip(first) {
+                *cell |= 1 << e;
+            }
+        }
+        c
+    }
+
+    /// The cell of the component `v` (see [`DirectionCells`]).
+    #[inline(always)]
+    fn cell(&self, v: S) -> usize {
+        let x = v - self.origin;
+        // (A shift in fixed point, where a product is a routine.)
+        let x = if S::SPARSE_PRODUCTS { x.mul_pow2(self.shift) } else { x * self.scale };
+        x.floor_to_i32().clamp(0, DIRECTION_CELLS as i32 - 1) as usize
+    }
+
+    /// The entries whose direction box may hold a direction with component `v`.
+    #[inline(always)]
+    fn entries(&self, v: S) -> EntryMask {
+        self.cells.get(self.cell(v)).copied().unwrap_or(EntryMask::MAX)
+    }
+}
+
 /// One primitive for reflected and refracted rays: its bounds' sphere,
 /// grown (see [`ShadowCull`]), as its centre, radius and squared radius.
 #[derive(Clone, Copy, Debug)]
@@ -461,6 +552,9 @@ pub struct ShadowCull<S> {
     tested: [u8; SHADOW_LIGHTS],
     /// Per light, the primitives always tested (bit `k`, below `len`).
     always: [Candidates; SHADOW_LIGHTS],
+    /// Per light and axis, which entries' direction boxes meet each cell
+    /// of that component of the direction (see [`DirectionCells`]).
+    cells: [[DirectionCells<S>; 3]; SHADOW_LIGHTS],
     lights: usize,
     len: usize,
     /// Largest offset scale of a hit point whose shadow rays may be culled.
@@ -480,6 +574,7 @@ impl<S: Scalar> ShadowCull<S> {
             index: [[0; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
             tested: [0; SHADOW_LIGHTS],
             always: [ALL; SHADOW_LIGHTS],
+            cells: [[DirectionCells::NONE; 3]; SHADOW_LIGHTS],
             lights: 0,
             len: 0,
             eps_limit: S::ZERO,
@@ -545,6 +640,12 @@ impl<S: Scalar> ShadowCull<S> {
                 }
             }
             *tested = n as u8;
+        }
+        for ((cells, row), &n) in self.cells.iter_mut().zip(&self.occluders).zip(&self.tested) {
+            let row = row.get(..n as usize).unwrap_or(&[]);
+            for (axis, c) in cells.iter_mut().enumerate() {
+                *c = DirectionCells::new(row, axis);
+            }
         }
         self.lights = scene.lights().len().min(SHADOW_LIGHTS);
         // Reflected and refracted rays: the bounds' spheres, grown by the
@@ -631,8 +732,22 @@ impl<S: Scalar> ShadowCull<S> {
         }
         let always = self.always.get(light).copied().unwrap_or(ALL);
         let mut m = !low_bits(self.len) | always;
-        let (Some(index), Some(&n)) = (self.index.get(light), self.tested.get(light)) else { return ALL };
-        for (o, &k) in row.iter().zip(index).take(n as usize) {
+        let (Some(index), Some(cells)) = (self.index.get(light), self.cells.get(light)) else { return ALL };
+        // The entries whose direction box can hold a lit lane's direction,
+        // from the cells of its three components (a few comparisons and
+        // loads per lane, where testing every entry's box took six
+        // comparisons per entry).
+        let mut entries: EntryMask = 0;
+        for l in 0..W {
+            if lit.get(l) {
+                let [cx, cy, cz] = cells;
+                entries |= cx.entries(dir.x.0[l]) & cy.entries(dir.y.0[l]) & cz.entries(dir.z.0[l]);
+            }
+        }
+        while entries != 0 {
+            let e = entries.trailing_zeros() as usize;
+            entries &= entries.wrapping_sub(1);
+            let (Some(o), Some(&k)) = (row.get(e), index.get(e)) else { break };
             // The box of directions first (comparisons only, one axis at a
             // time: most occluders are left behind by the first), then the
             // cone for the lanes inside it.
