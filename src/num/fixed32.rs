@@ -419,16 +419,24 @@ fn mul16x32(w: u32, d: u32) -> u64 {
 // - Armv6-M, which has none (LLVM would call `__aeabi_lmul`, a full 64×64
 //   product): four 16×16→32 `muls` of signed 16-bit limbs
 //   ([`mul_raw_limbs`]).
-// The two 32-bit forms end in [`round_words`]: the rounded product's two
-// words, a range test that is one compare for every product below 2^(30−FRAC)
-// in magnitude (64 for Q8.24: all a scene in the coordinate box normally
-// forms), and the exact clamp out of line for the rest.
+// The two 32-bit forms have a range test that is one compare for every
+// product below about 2^(30−FRAC) in magnitude (64 for Q8.24: all a scene
+// in the coordinate box normally forms), and the exact clamp out of line
+// for the rest: [`round_words`] on the rounded product's two words, and
+// the limbs' test of their high partial product.
 
 /// The portable product (64-bit hosts and WebAssembly): one exact `i64` product
 /// (|a·b| ≤ 2⁶², so adding half an ulp cannot overflow), an arithmetic shift
 /// (which floors, so ties go towards +∞), then the clamp.
 #[inline(always)]
-#[cfg_attr(not(any(target_pointer_width = "64", target_arch = "wasm32")), allow(dead_code))]
+#[cfg_attr(
+    not(any(
+        target_pointer_width = "64",
+        target_arch = "wasm32",
+        all(target_arch = "arm", not(target_has_atomic = "32"))
+    )),
+    allow(dead_code)
+)]
 fn mul_raw_native(a: i32, b: i32) -> i32 {
     let r = (a as i64 * b as i64 + HALF_ULP) >> FRAC;
     if r > RAW_MAX as i64 {
@@ -499,33 +507,49 @@ fn mul_raw_words(a: i32, b: i32) -> i32 {
 /// `|C| < 2³¹`, `L < 2³²` unsigned). The bits of `L` below 2¹⁶ cannot
 /// reach bit `FRAC ≥ 16` of the sum except through a carry, so with `h`
 /// half an ulp, `L + (h mod 2¹⁶) = q·2¹⁶ + ρ` (`ρ < 2¹⁶`; no overflow:
-/// `L ≤ (2¹⁶ − 1)²`) and
+/// `L ≤ (2¹⁶ − 1)²`) and, with `C₁' = C₁ + q + ⌊h/2¹⁶⌋` and `F = FRAC − 16`,
 ///
-/// `⌊(a·b + h)/2^FRAC⌋ = ⌊(H·2³² + (C₁' + C₂)·2¹⁶)/2^FRAC⌋`,
-/// `C₁' = C₁ + q + ⌊h/2¹⁶⌋`
+/// `⌊(a·b + h)/2^FRAC⌋ = ⌊(H·2¹⁶ + C₁' + C₂)/2^F⌋ = H·2^(16−F) + (C₁' >> F) + (C₂ >> F) + ((C₁' mod 2^F + C₂ mod 2^F) >> F)`
 ///
-/// (dropping `ρ` changes no bit from `FRAC` up). `C₁'` still fits an `i32`
-/// (below `2³¹ − 2¹⁵ + 2¹⁰`), but `C₁' + C₂` may need 33 bits, so the sum
-/// `C·2¹⁶` is added as a 64-bit number: its low word `C₁'·2¹⁶ + C₂·2¹⁶`
-/// (one carry) and its high word `H + (C₁' >> 16) + (C₂ >> 16)` plus that
-/// carry. Then [`round_words`]. Bit for bit the rounding of
-/// [`mul_raw_native`]; 4 `muls` and about 29 instructions on the fast path
-/// (no magnitudes, no sign fix-up, no 64-bit library call).
+/// (dropping `ρ` changes no bit from `FRAC` up; the floor of a sum of two
+/// numbers is the sum of their floors plus the carry of their remainders,
+/// so `C₁' + C₂`, which may need 33 bits, is never formed). `C₁'` still
+/// fits an `i32` (below `2³¹ − 2¹⁵ + 2¹⁰`). When `H` lies in
+/// `[−2^(FRAC−2), 2^(FRAC−2))` the result lies within `2^30 + 2^24` of zero:
+/// in range, and the sum above is exact in wrapping 32-bit arithmetic; the
+/// test is that `H` shifted right by `FRAC − 2` is its own sign (all a scene
+/// in the coordinate box normally forms: products below 64 in magnitude).
+/// Larger products take the exact `i64` form out of line
+/// ([`mul_raw_wide`]). Bit for bit the rounding of [`mul_raw_native`]; 4
+/// `muls` and about 26 instructions on the fast path (no magnitudes, no
+/// sign fix-up, no 64-bit library call, no carry between words).
 #[inline(always)]
 #[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
 fn mul_raw_limbs(a: i32, b: i32) -> i32 {
-    const _: () = assert!(FRAC >= 16);
+    const _: () = assert!(FRAC >= 16 && FRAC < 32);
+    const F: u32 = FRAC - 16;
     let (ah, bh) = (a >> 16, b >> 16);
-    let (al, bl) = (a & 0xFFFF, b & 0xFFFF);
     // (Wrapping only to spare overflow checks: the bounds above keep every
-    // partial product, and C₁', exact.)
+    // partial product, C₁' and the sum exact.)
     let h = ah.wrapping_mul(bh);
+    if h >> (FRAC - 2) != h >> 31 {
+        return mul_raw_wide(a, b);
+    }
+    let (al, bl) = (a & 0xFFFF, b & 0xFFFF);
     let l = (al as u32).wrapping_mul(bl as u32).wrapping_add((HALF_ULP & 0xFFFF) as u32);
     let c1 = ah.wrapping_mul(bl).wrapping_add((l >> 16) as i32).wrapping_add((HALF_ULP >> 16) as i32);
     let c2 = al.wrapping_mul(bh);
-    let (lo, carry) = ((c1 << 16) as u32).overflowing_add((c2 << 16) as u32);
-    let hi = h.wrapping_add(c1 >> 16).wrapping_add(c2 >> 16).wrapping_add(carry as i32);
-    round_words(hi, lo)
+    let low = (1i32 << F) - 1;
+    (h << (32 - FRAC)).wrapping_add(c1 >> F).wrapping_add(c2 >> F).wrapping_add(((c1 & low) + (c2 & low)) >> F)
+}
+
+/// [`mul_raw_limbs`] for products of magnitude about `2^(30−FRAC)` and up
+/// (rare: out of line): the exact `i64` product and clamp.
+#[cold]
+#[inline(never)]
+#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+fn mul_raw_wide(a: i32, b: i32) -> i32 {
+    mul_raw_native(a, b)
 }
 
 // ---------------------------------------------------------------------------
@@ -1128,8 +1152,8 @@ impl Mul for Fixed32 {
     }
 }
 
-/// The Armv6-M product: [`mul_raw_limbs`] inline at every use (about 29
-/// instructions and 60 bytes each), or with the feature `compact-mul` one
+/// The Armv6-M product: [`mul_raw_limbs`] inline at every use (about 26
+/// instructions and 56 bytes each), or with the feature `compact-mul` one
 /// shared copy that every use calls (a few more instructions per product,
 /// a few bytes per use).
 #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]

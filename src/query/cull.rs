@@ -732,17 +732,21 @@ impl<S: Scalar> ShadowCull<S> {
         }
         let always = self.always.get(light).copied().unwrap_or(ALL);
         let mut m = !low_bits(self.len) | always;
-        let (Some(index), Some(cells)) = (self.index.get(light), self.cells.get(light)) else { return ALL };
-        // The entries whose direction box can hold a lit lane's direction,
+        let (Some(index), Some(cells), Some(&n)) =
+            (self.index.get(light), self.cells.get(light), self.tested.get(light))
+        else {
+            return ALL;
+        };
+        // One ray: the entries whose direction box can hold its direction,
         // from the cells of its three components (a few comparisons and
-        // loads per lane, where testing every entry's box took six
-        // comparisons per entry).
-        let mut entries: EntryMask = 0;
-        for l in 0..W {
-            if lit.get(l) {
-                let [cx, cy, cz] = cells;
-                entries |= cx.entries(dir.x.0[l]) & cy.entries(dir.y.0[l]) & cz.entries(dir.z.0[l]);
-            }
+        // loads, where testing every entry's box took up to six
+        // comparisons per entry). A packet tests every entry: its lanes'
+        // comparisons run side by side, and finding each lane's cells
+        // cost more than they spared (Cortex-M55 and RVV at widths 4 and 8).
+        let mut entries: EntryMask = if W == 1 { 0 } else { low_bits(n as usize) };
+        if W == 1 && lit.get(0) {
+            let [cx, cy, cz] = cells;
+            entries = cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]);
         }
         while entries != 0 {
             let e = entries.trailing_zeros() as usize;

@@ -31,11 +31,12 @@ use raypack::output::RectPositions;
 use raypack::render::{BufferTooSmall, Renderer, Rgb8};
 use raypack::trace::RayStats;
 
-/// Rows per band: the Pico's band buffers (one per core, 960 bytes each).
-/// Two rows rather than four even the cores' pairs of bands out (a
-/// shorter lockstep frame, docs/firmware.md "Two cores"), for twice the
-/// hand-overs and SPI address windows.
-pub const BAND_ROWS: u32 = 2;
+/// Rows per band: the Pico's band buffers (one per core, 480 bytes each).
+/// One row rather than two or four evens the cores' pairs of bands out
+/// (adjacent rows cost nearly the same: a shorter lockstep frame,
+/// docs/firmware.md "Two cores"), for more hand-overs and SPI address
+/// windows (128 a frame).
+pub const BAND_ROWS: u32 = 1;
 /// Cores the frame is split between.
 pub const CORES: u32 = 2;
 /// Bands in the image.

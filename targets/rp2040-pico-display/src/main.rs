@@ -85,7 +85,7 @@ type MosiPin = Pin<bank0::Gpio19, FunctionSpi, PullNone>;
 pub static BOOT2_FIRMWARE: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 
 static mut SCENE: fw::SceneSlot = fw::SceneSlot::new();
-/// Core 0's band buffer: 2 rows of 160 pixels (960 bytes), one SPI
+/// Core 0's band buffer: 1 row of 160 pixels (480 bytes), one SPI
 /// address window and pixel burst per band.
 static mut BAND0: [Rgb8; BAND_PIXELS] = [[0; 3]; BAND_PIXELS];
 /// Core 1's band buffer: written by core 1 between hand-overs, read by
