@@ -340,7 +340,7 @@ echo "| board | scalar | width | .text | .rodata | .data+.bss | stack high-water
 echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
 printf '%s\n' "${SUMMARY[@]}"
 if [ ${#SHARES[@]} -gt 0 ]; then
-  say "two cores (the Pico's split: bands of 2 rows alternating between the cores; each share includes the scene build; lockstep: the cores go band pair by band pair)"
+  say "two cores (the Pico's split: bands of 1 row alternating between the cores; each share includes the scene build; lockstep: the cores go band pair by band pair)"
   echo "| board | scalar | per-core instructions (larger share) | core 0 | core 1 | lockstep | one core |"
   echo "| --- | --- | --- | --- | --- | --- | --- |"
   printf '%s\n' "${SHARES[@]}"
