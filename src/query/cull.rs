@@ -700,7 +700,7 @@ impl<S: Scalar> ShadowCull<S> {
         if apart::<W>() {
             self.candidates_apart(light, dir, eps, lit)
         } else {
-            self.candidates_here(light, dir, eps, lit)
+            self.candidates_here(light, dir, eps, lit, use_cells::<W>())
         }
     }
 
@@ -713,10 +713,12 @@ impl<S: Scalar> ShadowCull<S> {
         eps: Lanes<S, W>,
         lit: Mask<W>,
     ) -> Candidates {
-        self.candidates_here(light, dir, eps, lit)
+        self.candidates_here(light, dir, eps, lit, use_cells::<W>())
     }
 
-    /// [`ShadowCull::candidates`]' work.
+    /// [`ShadowCull::candidates`]' work; with `cells_first` (at width 1:
+    /// the lane is lane 0) from the direction cells, otherwise from every
+    /// entry (the same candidates).
     #[inline(always)]
     fn candidates_here<const W: usize>(
         &self,
@@ -724,6 +726,7 @@ impl<S: Scalar> ShadowCull<S> {
         dir: &Vec3xW<S, W>,
         eps: Lanes<S, W>,
         lit: Mask<W>,
+        cells_first: bool,
     ) -> Candidates {
         let Some(row) = self.occluders.get(light).filter(|_| light < self.lights) else { return ALL };
         // A hit point too far out for the frame's margin: everything.
@@ -742,9 +745,10 @@ impl<S: Scalar> ShadowCull<S> {
         // loads, where testing every entry's box took up to six
         // comparisons per entry). A packet tests every entry: its lanes'
         // comparisons run side by side, and finding each lane's cells
-        // cost more than they spared (Cortex-M55 and RVV at widths 4 and 8).
-        let mut entries: EntryMask = if W == 1 { 0 } else { low_bits(n as usize) };
-        if W == 1 && lit.get(0) {
+        // cost more than they spared (Cortex-M55 and RVV at widths 4 and 8;
+        // see `use_cells` for x86).
+        let mut entries: EntryMask = if cells_first { 0 } else { low_bits(n as usize) };
+        if cells_first && lit.get(0) {
             let [cx, cy, cz] = cells;
             entries = cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]);
         }
@@ -852,6 +856,17 @@ const fn apart<const W: usize>() -> bool {
     W == 1 && !cfg!(any(target_arch = "x86", target_arch = "x86_64"))
 }
 
+/// Whether [`ShadowCull`]'s shadow-ray test starts from the direction
+/// cells: at width 1 on every target but x86 (the unit test
+/// `direction_cells_leave_the_candidates_as_they_are` compares both ways
+/// on the host). On x86 the tracer's code (the cull inline in it) compiled
+/// differently with them and rendered `gears-2` at packet 1 2.4 % slower
+/// (`raypack bench`, 8 interleaved rounds), a scene the cull does not even
+/// serve (more than 32 primitives).
+const fn use_cells<const W: usize>() -> bool {
+    W == 1 && !cfg!(any(target_arch = "x86", target_arch = "x86_64"))
+}
+
 /// The cone and the box of directions from the light `l` reaching the box
 /// `[lo, hi]` grown by `grow` (see [`ShadowCull`]), as an occluder entry;
 /// `None` if it must always be tested.
@@ -933,6 +948,74 @@ mod tests {
     use super::*;
     use crate::num::fixed32::Fixed32;
     use crate::scene::{Material, Scene};
+
+    /// The shadow candidates of width-1 rays from the direction cells and
+    /// from every entry, for the demo scene's lights and seeded hit points
+    /// (inside and beyond the scene), and for directions whose components
+    /// are exactly the entries' box bounds (the cells' edges).
+    fn cells_agree<S: Scalar>(name: &str) {
+        // (In its own frame for Q8.24, as the firmware builds it.)
+        let mut scene = crate::scene::demo::DemoScene::<S>::new();
+        let mut described = crate::scene::demo::DemoScene::<f32>::new();
+        crate::scene::demo::build_demo_scene_for(&mut scene, &mut described).unwrap();
+        let view = scene.view();
+        let mut cull = ShadowCull::<S>::empty();
+        cull.fill(&view).unwrap();
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let eps = Lanes::<S, 1>::splat(S::from_f32(1e-4));
+        let lit = Mask::<1>::splat(true);
+        let mut culled = 0;
+        // Hit points around the segment between the two lights, reaching
+        // past the scene.
+        let (a, b) = (view.lights()[0].position.to_f32(), view.lights()[1].position.to_f32());
+        let span = (0..3).map(|i| (a[i] - b[i]).abs()).fold(0.0f32, f32::max);
+        for (li, l) in view.lights().iter().enumerate() {
+            let lp = l.position.to_f32();
+            let mut dirs = std::vec::Vec::new();
+            for _ in 0..4000 {
+                let t = next();
+                let p: [f32; 3] = core::array::from_fn(|i| a[i] + (b[i] - a[i]) * t + (next() - 0.5) * 1.5 * span);
+                let d = Vec3::from_f32(lp[0] - p[0], lp[1] - p[1], lp[2] - p[2]);
+                dirs.push(d.splat::<1>().normalize().0);
+            }
+            let row = &cull.occluders[li][..cull.tested[li] as usize];
+            for o in row {
+                for axis in 0..3 {
+                    for bound in [o.dlo.axis(axis), o.dhi.axis(axis)] {
+                        let mut d = dirs[dirs.len() % 97];
+                        match axis {
+                            0 => d.x = Lanes::splat(bound),
+                            1 => d.y = Lanes::splat(bound),
+                            _ => d.z = Lanes::splat(bound),
+                        }
+                        dirs.push(d);
+                    }
+                }
+            }
+            for d in &dirs {
+                let with = cull.candidates_here(li, d, eps, lit, true);
+                let without = cull.candidates_here(li, d, eps, lit, false);
+                assert_eq!(with, without, "{name}: light {li}, direction {:?}", d.lane(0));
+                culled += (with & low_bits(view.primitives().len())).count_zeros();
+            }
+        }
+        // The table culls something (the comparison is not between two
+        // empty tables).
+        assert!(culled > 1000, "{name}: {culled}");
+    }
+
+    #[test]
+    fn direction_cells_leave_the_candidates_as_they_are() {
+        cells_agree::<f32>("f32");
+        cells_agree::<Fixed32>("fixed32");
+        cells_agree::<crate::num::fixed64::Fixed>("fixed");
+    }
 
     #[test]
     fn candidate_indices_are_the_set_bits_then_every_index_from_32() {
