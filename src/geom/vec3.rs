@@ -193,11 +193,13 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
         (n, ok)
     }
     /// [`Vec3xW::normalize`] and each lane's length: the one the unit
-    /// vector was divided by, brought back to the vector's own scale. With
-    /// [`Scalar::NORMALIZE_PRESCALE`] that is the prescaled length times
-    /// `2^−k` (one rounding, for `k > 0`; saturating past the range), which
-    /// spares a second square root; otherwise `length_squared().sqrt()`
-    /// bit for bit. Meaningless in the lanes the mask clears.
+    /// vector was scaled by, brought back to the vector's own scale. With
+    /// [`Scalar::NORMALIZE_PRESCALE`] that is the prescaled length (with
+    /// [`Scalar::NORMALIZE_BY_INVERSE_SQRT`], the squared length times its
+    /// reciprocal root) times `2^−k` (one rounding more, for `k > 0`;
+    /// saturating past the range), which spares a second square root;
+    /// otherwise `length_squared().sqrt()` bit for bit. Meaningless in the
+    /// lanes the mask clears.
     #[inline(always)]
     pub fn normalize_with_length(self) -> (Self, Lanes<S, W>, Mask<W>) {
         self.normalize_impl::<false>()

@@ -396,6 +396,12 @@ type EntryMask = u32;
 
 const _: () = assert!(SHADOW_OCCLUDERS <= EntryMask::BITS as usize);
 
+/// Lights whose shadow directions have cells (see [`use_cells`]): none on
+/// WebAssembly, where `use_cells` leaves them out and filling them anyway
+/// (for every scalar the module renders) made the module 13.5 KB larger
+/// (197.6 → 211.1 KB), past its 200 KB budget.
+const CELL_LIGHTS: usize = if cfg!(target_arch = "wasm32") { 0 } else { SHADOW_LIGHTS };
+
 /// Cells per component of the shadow directions (see [`DirectionCells`]).
 const DIRECTION_CELLS: usize = 16;
 
@@ -429,7 +435,7 @@ struct DirectionCells<S> {
 
 impl<S: Scalar> DirectionCells<S> {
     /// No entries.
-    const NONE: Self = DirectionCells { origin: S::ZERO, shift: 0, scale: S::ONE, cells: [0; DIRECTION_CELLS] };
+    const NONE: Self = DirectionCells { origin: S::ZERO, shift: 0, scale: S::ZERO, cells: [0; DIRECTION_CELLS] };
 
     /// The cells of component `axis` for the entries `row`.
     fn new(row: &[Occluder<S>], axis: usize) -> Self {
@@ -554,7 +560,7 @@ pub struct ShadowCull<S> {
     always: [Candidates; SHADOW_LIGHTS],
     /// Per light and axis, which entries' direction boxes meet each cell
     /// of that component of the direction (see [`DirectionCells`]).
-    cells: [[DirectionCells<S>; 3]; SHADOW_LIGHTS],
+    cells: [[DirectionCells<S>; 3]; CELL_LIGHTS],
     lights: usize,
     len: usize,
     /// Largest offset scale of a hit point whose shadow rays may be culled.
@@ -574,7 +580,7 @@ impl<S: Scalar> ShadowCull<S> {
             index: [[0; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
             tested: [0; SHADOW_LIGHTS],
             always: [ALL; SHADOW_LIGHTS],
-            cells: [[DirectionCells::NONE; 3]; SHADOW_LIGHTS],
+            cells: [[DirectionCells::NONE; 3]; CELL_LIGHTS],
             lights: 0,
             len: 0,
             eps_limit: S::ZERO,
@@ -641,6 +647,8 @@ impl<S: Scalar> ShadowCull<S> {
             }
             *tested = n as u8;
         }
+        // (No cells on WebAssembly: see `CELL_LIGHTS`.)
+        #[cfg(not(target_arch = "wasm32"))]
         for ((cells, row), &n) in self.cells.iter_mut().zip(&self.occluders).zip(&self.tested) {
             let row = row.get(..n as usize).unwrap_or(&[]);
             for (axis, c) in cells.iter_mut().enumerate() {
@@ -735,11 +743,7 @@ impl<S: Scalar> ShadowCull<S> {
         }
         let always = self.always.get(light).copied().unwrap_or(ALL);
         let mut m = !low_bits(self.len) | always;
-        let (Some(index), Some(cells), Some(&n)) =
-            (self.index.get(light), self.cells.get(light), self.tested.get(light))
-        else {
-            return ALL;
-        };
+        let (Some(index), Some(&n)) = (self.index.get(light), self.tested.get(light)) else { return ALL };
         // One ray: the entries whose direction box can hold its direction,
         // from the cells of its three components (a few comparisons and
         // loads, where testing every entry's box took up to six
@@ -747,33 +751,44 @@ impl<S: Scalar> ShadowCull<S> {
         // comparisons run side by side, and finding each lane's cells
         // cost more than they spared (Cortex-M55 and RVV at widths 4 and 8;
         // see `use_cells` for x86).
-        let mut entries: EntryMask = if cells_first { 0 } else { low_bits(n as usize) };
-        if cells_first && lit.get(0) {
-            let [cx, cy, cz] = cells;
-            entries = cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]);
-        }
-        while entries != 0 {
-            let e = entries.trailing_zeros() as usize;
-            entries &= entries.wrapping_sub(1);
-            let (Some(o), Some(&k)) = (row.get(e), index.get(e)) else { break };
-            // The box of directions first (comparisons only, one axis at a
-            // time: most occluders are left behind by the first), then the
-            // cone for the lanes inside it.
+        // Whether entry `o` (primitive `k`) can be reached: the box of
+        // directions first (comparisons only, one axis at a time: most
+        // occluders are left behind by the first), then the cone for the
+        // lanes inside it.
+        let reached = |o: &Occluder<S>| {
             let (lo, hi) = (o.dlo, o.dhi);
             let mut inside = lit & dir.x.ge(Lanes::splat(lo.x)) & dir.x.le(Lanes::splat(hi.x));
             if inside.none() {
-                continue;
+                return false;
             }
             inside &= dir.y.ge(Lanes::splat(lo.y)) & dir.y.le(Lanes::splat(hi.y));
             if inside.none() {
-                continue;
+                return false;
             }
             inside &= dir.z.ge(Lanes::splat(lo.z)) & dir.z.le(Lanes::splat(hi.z));
             if inside.none() {
-                continue;
+                return false;
             }
-            if o.limit == S::MAX || (inside & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any() {
-                m |= 1 << k;
+            o.limit == S::MAX || (inside & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any()
+        };
+        if let (true, Some([cx, cy, cz])) = (cells_first, self.cells.get(light)) {
+            let mut entries: EntryMask = 0;
+            if lit.get(0) {
+                entries = cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]);
+            }
+            while entries != 0 {
+                let e = entries.trailing_zeros() as usize;
+                entries &= entries.wrapping_sub(1);
+                let (Some(o), Some(&k)) = (row.get(e), index.get(e)) else { break };
+                if reached(o) {
+                    m |= 1 << k;
+                }
+            }
+        } else {
+            for (o, &k) in row.iter().zip(index).take(n as usize) {
+                if reached(o) {
+                    m |= 1 << k;
+                }
             }
         }
         m
@@ -863,8 +878,10 @@ const fn apart<const W: usize>() -> bool {
 /// differently with them and rendered `gears-2` at packet 1 2.4 % slower
 /// (`raypack bench`, 8 interleaved rounds), a scene the cull does not even
 /// serve (more than 32 primitives).
+///
+/// Nor on WebAssembly, where there are none ([`CELL_LIGHTS`]).
 const fn use_cells<const W: usize>() -> bool {
-    W == 1 && !cfg!(any(target_arch = "x86", target_arch = "x86_64"))
+    W == 1 && !cfg!(any(target_arch = "x86", target_arch = "x86_64", target_arch = "wasm32"))
 }
 
 /// The cone and the box of directions from the light `l` reaching the box
