@@ -871,9 +871,10 @@ fn rsqrt_raw(a: u32) -> u32 {
     let h = ((1u64 << 62) as i64).wrapping_sub(wmul(t, y.wrapping_mul(y)) as i64);
     // y·(h·2⁶²)/2⁴⁸ = (y/2)·(h·2⁶²/2³³)/2¹⁴: both factors below 2¹⁶ in magnitude.
     let c = ((y >> 1) as i32).wrapping_mul((h >> 33) as i32) >> 14;
-    let big_y = (y << 15).wrapping_add_signed(c); // ≈ 2³⁰/√T, at most 2³¹ + a few
-                                                  // Y·2^(j−10), j = z/2: a right shift by 10 − j ≥ 1, rounded half up,
-                                                  // or (j ≥ 10) at least 2³⁰·2^(j−10): saturated from j = 11 on.
+    // Y ≈ 2³⁰/√T, at most 2³¹ + a few.
+    let big_y = (y << 15).wrapping_add_signed(c);
+    // Y·2^(j−10), j = z/2: a right shift by 10 − j ≥ 1, rounded half up,
+    // or (j ≥ 10) at least 2³⁰·2^(j−10): saturated from j = 11 on.
     let sh = 10i32.wrapping_sub((z / 2) as i32);
     if sh >= 1 {
         big_y.wrapping_add(1 << (sh - 1)) >> sh

@@ -744,13 +744,6 @@ impl<S: Scalar> ShadowCull<S> {
         let always = self.always.get(light).copied().unwrap_or(ALL);
         let mut m = !low_bits(self.len) | always;
         let (Some(index), Some(&n)) = (self.index.get(light), self.tested.get(light)) else { return ALL };
-        // One ray: the entries whose direction box can hold its direction,
-        // from the cells of its three components (a few comparisons and
-        // loads, where testing every entry's box took up to six
-        // comparisons per entry). A packet tests every entry: its lanes'
-        // comparisons run side by side, and finding each lane's cells
-        // cost more than they spared (Cortex-M55 and RVV at widths 4 and 8;
-        // see `use_cells` for x86).
         // Whether entry `o` (primitive `k`) can be reached: the box of
         // directions first (comparisons only, one axis at a time: most
         // occluders are left behind by the first), then the cone for the
@@ -772,19 +765,23 @@ impl<S: Scalar> ShadowCull<S> {
             o.limit == S::MAX || (inside & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any()
         };
         if let (true, Some([cx, cy, cz])) = (cells_first, self.cells.get(light)) {
-            let mut entries: EntryMask = 0;
-            if lit.get(0) {
-                entries = cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]);
-            }
-            while entries != 0 {
-                let e = entries.trailing_zeros() as usize;
-                entries &= entries.wrapping_sub(1);
+            // One ray: only the entries whose direction box can hold its
+            // direction, from the cells of its three components (a few
+            // comparisons and loads, where testing every entry's box took
+            // up to six comparisons per entry).
+            let entries =
+                if lit.get(0) { cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]) } else { 0 };
+            for e in candidate_indices(entries, n as usize) {
                 let (Some(o), Some(&k)) = (row.get(e), index.get(e)) else { break };
                 if reached(o) {
                     m |= 1 << k;
                 }
             }
         } else {
+            // A packet tests every entry: its lanes' comparisons run side
+            // by side, and finding each lane's cells cost more than they
+            // spared (Cortex-M55 and RVV at widths 4 and 8).
+
             for (o, &k) in row.iter().zip(index).take(n as usize) {
                 if reached(o) {
                     m |= 1 << k;
@@ -881,7 +878,7 @@ const fn apart<const W: usize>() -> bool {
 ///
 /// Nor on WebAssembly, where there are none ([`CELL_LIGHTS`]).
 const fn use_cells<const W: usize>() -> bool {
-    W == 1 && !cfg!(any(target_arch = "x86", target_arch = "x86_64", target_arch = "wasm32"))
+    W == 1 && CELL_LIGHTS > 0 && !cfg!(any(target_arch = "x86", target_arch = "x86_64"))
 }
 
 /// The cone and the box of directions from the light `l` reaching the box
