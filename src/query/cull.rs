@@ -771,7 +771,13 @@ impl<S: Scalar> ShadowCull<S> {
             // up to six comparisons per entry).
             let entries =
                 if lit.get(0) { cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]) } else { 0 };
-            for e in candidate_indices(entries, n as usize) {
+            // (Set bits by hand, not `candidate_indices`: its tail past
+            // bit 32 cost the Cortex-M0 `fixed32` frame 0.35 %, 219 297 125
+            // → 220 074 375 instructions, and the M55 width 1 1.3 %.)
+            let mut entries = entries;
+            while entries != 0 {
+                let e = entries.trailing_zeros() as usize;
+                entries &= entries.wrapping_sub(1);
                 let (Some(o), Some(&k)) = (row.get(e), index.get(e)) else { break };
                 if reached(o) {
                     m |= 1 << k;
