@@ -509,20 +509,25 @@ fn mul_raw_words(a: i32, b: i32) -> i32 {
 /// half an ulp, `L + (h mod 2¹⁶) = q·2¹⁶ + ρ` (`ρ < 2¹⁶`; no overflow:
 /// `L ≤ (2¹⁶ − 1)²`) and, with `C₁' = C₁ + q + ⌊h/2¹⁶⌋` and `F = FRAC − 16`,
 ///
-/// `⌊(a·b + h)/2^FRAC⌋ = ⌊(H·2¹⁶ + C₁' + C₂)/2^F⌋ = H·2^(16−F) + (C₁' >> F) + (C₂ >> F) + ((C₁' mod 2^F + C₂ mod 2^F) >> F)`
+/// `⌊(a·b + h)/2^FRAC⌋ = ⌊(H·2¹⁶ + C₁' + C₂)/2^F⌋ = H·2^(16−F) + ((C₁' + C₂) >> F)`
 ///
-/// (dropping `ρ` changes no bit from `FRAC` up; the floor of a sum of two
-/// numbers is the sum of their floors plus the carry of their remainders,
-/// so `C₁' + C₂`, which may need 33 bits, is never formed). `C₁'` still
-/// fits an `i32` (below `2³¹ − 2¹⁵ + 2¹⁰`). When `H` lies in
-/// `[−2^(FRAC−2), 2^(FRAC−2))` the result lies within `2^30 + 2^24` of zero:
-/// in range, and the sum above is exact in wrapping 32-bit arithmetic; the
-/// test is that `H` shifted right by `FRAC − 2` is its own sign (all a scene
-/// in the coordinate box normally forms: products below 64 in magnitude).
-/// Larger products take the exact `i64` form out of line
+/// (dropping `ρ` changes no bit from `FRAC` up). `C₁'` still fits an `i32`
+/// (below `2³¹ − 2¹⁵ + 2¹⁰`), and so does `C₁' + C₂` on the fast path below
+/// unless one term lies within `2²⁴` of `±2³¹`, which takes one operand
+/// within about 1 of ±128 and the other below 1 in magnitude (a high limb
+/// below 2⁸, since `|H| < 2²²`): that sum is formed with `adds`, and its
+/// signed overflow (the V flag, one branch) hands the pair to the exact
+/// path. When `H` lies in `[−2^(FRAC−2), 2^(FRAC−2))` the result lies
+/// within `2^30 + 2^24` of zero: in range, and the sum above is exact in
+/// wrapping 32-bit arithmetic; the test is that `H` shifted right by
+/// `FRAC − 2` is its own sign (all a scene in the coordinate box normally
+/// forms: products below 64 in magnitude). Larger products, and the rare
+/// overflowing cross sums, take the exact `i64` form out of line
 /// ([`mul_raw_wide`]). Bit for bit the rounding of [`mul_raw_native`]; 4
-/// `muls` and about 26 instructions on the fast path (no magnitudes, no
-/// sign fix-up, no 64-bit library call, no carry between words).
+/// `muls` and about 22 instructions on the fast path (no magnitudes, no
+/// sign fix-up, no 64-bit library call, no carry between words: the
+/// floor of `C₁' + C₂` as the floors of its terms plus their remainders'
+/// carry, which never forms the 33-bit sum, took 4 instructions more).
 #[inline(always)]
 #[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
 fn mul_raw_limbs(a: i32, b: i32) -> i32 {
@@ -539,12 +544,17 @@ fn mul_raw_limbs(a: i32, b: i32) -> i32 {
     let l = (al as u32).wrapping_mul(bl as u32).wrapping_add((HALF_ULP & 0xFFFF) as u32);
     let c1 = ah.wrapping_mul(bl).wrapping_add((l >> 16) as i32).wrapping_add((HALF_ULP >> 16) as i32);
     let c2 = al.wrapping_mul(bh);
-    let low = (1i32 << F) - 1;
-    (h << (32 - FRAC)).wrapping_add(c1 >> F).wrapping_add(c2 >> F).wrapping_add(((c1 & low) + (c2 & low)) >> F)
+    // (`adds` and a branch on V: past 32 bits only near ±128, see above.)
+    let (s, carried) = c1.overflowing_add(c2);
+    if carried {
+        return mul_raw_wide(a, b);
+    }
+    (h << (32 - FRAC)).wrapping_add(s >> F)
 }
 
 /// [`mul_raw_limbs`] for products of magnitude about `2^(30−FRAC)` and up
-/// (rare: out of line): the exact `i64` product and clamp.
+/// and for cross sums past 32 bits (rare: out of line): the exact `i64`
+/// product and clamp.
 #[cold]
 #[inline(never)]
 #[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
@@ -1786,6 +1796,34 @@ mod tests {
         assert_eq!((Fixed32::from_bits(-1) * Fixed32::HALF).to_bits(), 0);
         assert_eq!((Fixed32::from_bits(3) * Fixed32::HALF).to_bits(), 2);
         assert_eq!((Fixed32::from_bits(-3) * Fixed32::HALF).to_bits(), -1);
+    }
+
+    /// The Armv6-M product's cross sum `C₁' + C₂` overflows 32 bits on its
+    /// fast path only for one operand near ±128 and the other below 1 in
+    /// magnitude; there the product takes the exact path. Seeded pairs of
+    /// that shape (thousands of them overflow) against the reference.
+    #[test]
+    fn limbs_cross_sum_past_32_bits_takes_the_exact_path() {
+        let mut rng = Rng(0xC4A7);
+        let mut overflowing = 0;
+        for _ in 0..400_000 {
+            // `a` near ±128 (a high limb of −2¹⁵ or 2¹⁵ − 1), `b` below ½ in
+            // magnitude with a low limb near 2¹⁶ (so `|C₁|` nears 2³¹).
+            let near = (rng.u32() >> (16 + rng.u32() % 16)) as i32;
+            let a = if rng.u32() & 1 == 0 { i32::MIN.wrapping_add(near) } else { i32::MAX - near };
+            let bh = (rng.u32() % 255) as i32 - 127;
+            let bl = 0xFFFF - (rng.u32() >> (16 + rng.u32() % 16)) as i32;
+            let b = (bh << 16) | bl;
+            for (a, b) in [(a, b), (b, a)] {
+                let (ah, bh, al, bl) = (a >> 16, b >> 16, a & 0xFFFF, b & 0xFFFF);
+                let l = (al as u32).wrapping_mul(bl as u32);
+                let c1 = ah.wrapping_mul(bl).wrapping_add((l >> 16) as i32).wrapping_add((HALF_ULP >> 16) as i32);
+                let fast = (ah * bh) >> (FRAC - 2) == (ah * bh) >> 31;
+                overflowing += (fast && c1.overflowing_add(al.wrapping_mul(bh)).1) as u32;
+                check_mul(a, b);
+            }
+        }
+        assert!(overflowing > 10_000, "{overflowing} pairs overflowed the cross sum");
     }
 
     /// Products next to every threshold of the two-word rounding: ±64 (where
