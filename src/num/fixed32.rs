@@ -1163,8 +1163,8 @@ impl Mul for Fixed32 {
     }
 }
 
-/// The Armv6-M product: [`mul_raw_limbs`] inline at every use (about 26
-/// instructions and 56 bytes each), or with the feature `compact-mul` one
+/// The Armv6-M product: [`mul_raw_limbs`] inline at every use (about 22
+/// instructions each), or with the feature `compact-mul` one
 /// shared copy that every use calls (a few more instructions per product,
 /// a few bytes per use).
 #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
