@@ -12,7 +12,9 @@ wait states (the nRF51's flash at 16 MHz, the RP2040's SRAM or a hit in its
 XIP cache): what a miss costs is not in the figure.
 
 Blocks of functions whose name matches EXCLUDE_REGEX (default: the timer
-calibration's busy loop) are left out, so that the figure is the frame's;
+calibration's busy loop, by name or as `??`: where it is inlined its
+`asm!` block has no line table, so the symboliser cannot name it) are
+left out, so that the figure is the frame's;
 with INCLUDE_REGEX, only blocks with a function (inlined ones included)
 whose name matches it are counted (for example `Fixed32` for a two-scalar
 image's fixed-point code).
@@ -27,7 +29,7 @@ from collections import Counter
 
 T = '/root/.rustup/toolchains/stable-x86_64-unknown-linux-gnu/lib/rustlib/x86_64-unknown-linux-gnu/bin/'
 elf = sys.argv[1]
-exclude = re.compile(sys.argv[2] if len(sys.argv) > 2 else r'busy_loop')
+exclude = re.compile(sys.argv[2] if len(sys.argv) > 2 else r'busy_loop|^\?\?$')
 include = re.compile(sys.argv[3]) if len(sys.argv) > 3 else None
 
 # Disassembly: address -> (mnemonic, operands), sizes from the next address.
