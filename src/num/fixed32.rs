@@ -525,9 +525,7 @@ fn mul_raw_words(a: i32, b: i32) -> i32 {
 /// overflowing cross sums, take the exact `i64` form out of line
 /// ([`mul_raw_wide`]). Bit for bit the rounding of [`mul_raw_native`]; 4
 /// `muls` and about 22 instructions on the fast path (no magnitudes, no
-/// sign fix-up, no 64-bit library call, no carry between words: the
-/// floor of `C₁' + C₂` as the floors of its terms plus their remainders'
-/// carry, which never forms the 33-bit sum, took 4 instructions more).
+/// sign fix-up, no 64-bit library call, no carry between words).
 #[inline(always)]
 #[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
 fn mul_raw_limbs(a: i32, b: i32) -> i32 {

@@ -769,12 +769,11 @@ impl<S: Scalar> ShadowCull<S> {
             // direction, from the cells of its three components (a few
             // comparisons and loads, where testing every entry's box took
             // up to six comparisons per entry).
-            let entries =
-                if lit.get(0) { cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]) } else { 0 };
             // (Set bits by hand, not `candidate_indices`: its tail past
-            // bit 32 cost the Cortex-M0 `fixed32` frame 0.35 %, 219 297 125
-            // → 220 074 375 instructions, and the M55 width 1 1.3 %.)
-            let mut entries = entries;
+            // bit 32 cost the Cortex-M0 `fixed32` frame 0.35 % and the M55
+            // width 1 1.3 %.)
+            let mut entries =
+                if lit.get(0) { cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]) } else { 0 };
             while entries != 0 {
                 let e = entries.trailing_zeros() as usize;
                 entries &= entries.wrapping_sub(1);
@@ -787,7 +786,6 @@ impl<S: Scalar> ShadowCull<S> {
             // A packet tests every entry: its lanes' comparisons run side
             // by side, and finding each lane's cells cost more than they
             // spared (Cortex-M55 and RVV at widths 4 and 8).
-
             for (o, &k) in row.iter().zip(index).take(n as usize) {
                 if reached(o) {
                     m |= 1 << k;
