@@ -180,6 +180,45 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
         self.y.0[i] = v.y;
         self.z.0[i] = v.z;
     }
+    /// Squared length of every lane, bit for bit [`Vec3::length_squared`]
+    /// (the same sum in the same order), from [`Scalar::square`]s.
+    #[inline(always)]
+    pub fn norm_squared(self) -> Lanes<S, W> {
+        self.x.square() + self.y.square() + self.z.square()
+    }
+    /// [`Vec3xW::norm_squared`] without the terms of components that are
+    /// zero in every lane where [`Scalar::SPARSE_PRODUCTS`] holds (bit for
+    /// bit `self.dot_sparse(self)`).
+    #[inline(always)]
+    pub fn norm_squared_sparse(self) -> Lanes<S, W> {
+        if S::SPARSE_PRODUCTS {
+            let zero = Lanes::zero();
+            let (zx, zy, zz) = (self.x.eq_lanes(zero).all(), self.y.eq_lanes(zero).all(), self.z.eq_lanes(zero).all());
+            // Left to right, as `dot` adds.
+            let mut sum = if zx { zero } else { self.x.square() };
+            if !zy {
+                sum = sum + self.y.square();
+            }
+            if !zz {
+                sum = sum + self.z.square();
+            }
+            sum
+        } else {
+            self.norm_squared()
+        }
+    }
+    /// [`Vec3::dot`] of vectors whose components are at most 4 in
+    /// magnitude, by [`Scalar::mul_small`]: the same bits.
+    #[inline(always)]
+    pub fn dot_small(self, o: Self) -> Lanes<S, W> {
+        self.x.mul_small(o.x) + self.y.mul_small(o.y) + self.z.mul_small(o.z)
+    }
+    /// [`Vec3xW::norm_squared`] of a vector whose components are at most 4
+    /// in magnitude, by [`Scalar::square_small`]: the same bits.
+    #[inline(always)]
+    pub fn norm_squared_small(self) -> Lanes<S, W> {
+        self.x.square_small() + self.y.square_small() + self.z.square_small()
+    }
     /// Lane-wise `select` of whole vectors.
     #[inline(always)]
     pub fn select(m: Mask<W>, a: Self, b: Self) -> Self {
@@ -217,6 +256,28 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// The normalisation, with or without the sparse products.
     #[inline(always)]
     fn normalize_impl<const SPARSE: bool>(self) -> (Self, Lanes<S, W>, Mask<W>) {
+        // A scalar's shorter route where every lane takes it (the same bits).
+        if S::NORMALIZE_PRESCALE {
+            let (mut n, mut len) = (self, Lanes::zero());
+            let mut every = true;
+            for l in 0..W {
+                let Some(([x, y, z], d)) = S::unit_and_length([self.x.0[l], self.y.0[l], self.z.0[l]]) else {
+                    every = false;
+                    break;
+                };
+                n.set_lane(l, Vec3::new(x, y, z));
+                len.0[l] = d;
+            }
+            if every {
+                return (n, len, Mask::splat(true));
+            }
+        }
+        self.normalize_general::<SPARSE>()
+    }
+
+    /// [`Vec3xW::normalize_impl`]'s lane code, for every scalar and vector.
+    #[inline(always)]
+    pub(crate) fn normalize_general<const SPARSE: bool>(self) -> (Self, Lanes<S, W>, Mask<W>) {
         // Fixed point: the largest component brought near 1 first, exactly
         // (see `Scalar::NORMALIZE_PRESCALE`).
         let (v, k) = if S::NORMALIZE_PRESCALE {
@@ -226,7 +287,7 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
         } else {
             (self, [0; W])
         };
-        let squared = if SPARSE { v.dot_sparse(v) } else { v.length_squared() };
+        let squared = if SPARSE { v.norm_squared_sparse() } else { v.norm_squared() };
         let (len, inv, ok) = if S::NORMALIZE_BY_INVERSE_SQRT {
             // Fixed point: one reciprocal root, then the length from it
             // (|v|²·(1/|v|) = |v|, one product).
@@ -275,18 +336,29 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// for bit, and an axis-aligned `v` costs one product, not three.
     #[inline(always)]
     pub fn dot_splat(self, v: Vec3<S>) -> Lanes<S, W> {
+        self.dot_splat_by(v, |a, b| a * b)
+    }
+    /// [`Vec3xW::dot_splat`] of vectors whose components are at most 4 in
+    /// magnitude (unit vectors), by [`Scalar::mul_small`]: the same bits.
+    #[inline(always)]
+    pub fn dot_splat_small(self, v: Vec3<S>) -> Lanes<S, W> {
+        self.dot_splat_by(v, Lanes::mul_small)
+    }
+    #[inline(always)]
+    fn dot_splat_by(self, v: Vec3<S>, mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>) -> Lanes<S, W> {
+        let m = |a: Lanes<S, W>, b: S| mul(a, Lanes::splat(b));
         if S::SPARSE_PRODUCTS {
             // Left to right, as `x·vx + y·vy + z·vz` adds (`0 + p = p`).
-            let mut sum = if v.x != S::ZERO { self.x * v.x } else { Lanes::zero() };
+            let mut sum = if v.x != S::ZERO { m(self.x, v.x) } else { Lanes::zero() };
             if v.y != S::ZERO {
-                sum = sum + self.y * v.y;
+                sum = sum + m(self.y, v.y);
             }
             if v.z != S::ZERO {
-                sum = sum + self.z * v.z;
+                sum = sum + m(self.z, v.z);
             }
             sum
         } else {
-            self.x * v.x + self.y * v.y + self.z * v.z
+            m(self.x, v.x) + m(self.y, v.y) + m(self.z, v.z)
         }
     }
     /// [`Vec3::dot`] lane by lane, leaving out (where
@@ -297,20 +369,30 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// instead of a product.
     #[inline(always)]
     pub fn dot_sparse(self, o: Self) -> Lanes<S, W> {
+        self.dot_sparse_by(o, |a, b| a * b)
+    }
+    /// [`Vec3xW::dot_sparse`] of vectors whose components are at most 4 in
+    /// magnitude (unit vectors), by [`Scalar::mul_small`]: the same bits.
+    #[inline(always)]
+    pub fn dot_sparse_small(self, o: Self) -> Lanes<S, W> {
+        self.dot_sparse_by(o, Lanes::mul_small)
+    }
+    #[inline(always)]
+    fn dot_sparse_by(self, o: Self, mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>) -> Lanes<S, W> {
         if S::SPARSE_PRODUCTS {
             let zero = Lanes::zero();
             let (zx, zy, zz) = (self.x.eq_lanes(zero).all(), self.y.eq_lanes(zero).all(), self.z.eq_lanes(zero).all());
             // Left to right, as `dot` adds.
-            let mut sum = if zx { zero } else { self.x * o.x };
+            let mut sum = if zx { zero } else { mul(self.x, o.x) };
             if !zy {
-                sum = sum + self.y * o.y;
+                sum = sum + mul(self.y, o.y);
             }
             if !zz {
-                sum = sum + self.z * o.z;
+                sum = sum + mul(self.z, o.z);
             }
             sum
         } else {
-            self.dot(o)
+            mul(self.x, o.x) + mul(self.y, o.y) + mul(self.z, o.z)
         }
     }
     /// [`Vec3::scale`] lane by lane, a component that is zero in every lane

@@ -550,6 +550,129 @@ fn mul_raw_limbs(a: i32, b: i32) -> i32 {
     (h << (32 - FRAC)).wrapping_add(s >> F)
 }
 
+/// [`mul_raw_limbs`] for `b = a`, bit for bit, from three `muls`: the two
+/// cross terms are one, `C = aₕaₗ`, so `a² = H·2³² + 2C·2¹⁶ + L` with
+/// `H = aₕ² ≥ 0` and `L = aₗ²`. Half an ulp `h` has no bits below 2¹⁶
+/// (FRAC ≥ 17), so with `t = ⌊L/2¹⁶⌋ + h/2¹⁶` the rounded product is
+/// `H·2^(16−F) + ⌊(2C + t)/2^F⌋` (`F = FRAC − 16`, as for the product), and
+/// `⌊(2C + t)/2^F⌋ = ⌊(C + ⌊t/2⌋)/2^(F−1)⌋`: `2C + t` is `2·(C + ⌊t/2⌋)`
+/// plus 0 or 1, and adding 1 to an even number cannot reach the next
+/// multiple of the even `2^F`. The fast path needs `H < 2^(FRAC−2)`, so
+/// `|aₕ| < 2^(FRAC/2−1)` and `|C| < 2^(FRAC/2+15)`: no sum can overflow,
+/// and there is no cross-sum test. About 14 instructions.
+#[inline(always)]
+#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+fn square_raw_limbs(a: i32) -> i32 {
+    const _: () = assert!(FRAC >= 17 && FRAC < 32 && HALF_ULP & 0xFFFF == 0);
+    let ah = a >> 16;
+    let h = ah.wrapping_mul(ah);
+    if h >> (FRAC - 2) != 0 {
+        return mul_raw_wide(a, a);
+    }
+    square_limbs_fast(a, h)
+}
+
+/// [`square_raw_limbs`]' fast path, given `h = aₕ²` below `2^(FRAC−2)`.
+#[inline(always)]
+#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+fn square_limbs_fast(a: i32, h: i32) -> i32 {
+    const F: u32 = FRAC - 16;
+    let (ah, al) = (a >> 16, a & 0xFFFF);
+    let l = (al as u32).wrapping_mul(al as u32);
+    let t = (l >> 16).wrapping_add((HALF_ULP >> 16) as u32);
+    let c = ah.wrapping_mul(al).wrapping_add((t >> 1) as i32);
+    (h << (32 - FRAC)).wrapping_add(c >> (F - 1))
+}
+
+/// Operands at most 4 in magnitude (raw `|a|, |b| ≤ 2²⁶`), whose product
+/// every form of the product takes by its fast path: `|aₕbₕ| ≤ 2²⁰`, the
+/// limbs' cross sum below `2²⁸`, the result at most 16 (no clamp).
+const SMALL: i32 = 1 << 26;
+
+/// The rounded product `a·b` for operands at most 4 in magnitude
+/// ([`SMALL`]): bit for bit the product, without its range tests, which
+/// cannot fire there.
+#[inline(always)]
+fn mul_raw_small(a: i32, b: i32) -> i32 {
+    debug_assert!(a.unsigned_abs() <= SMALL as u32 && b.unsigned_abs() <= SMALL as u32);
+    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+    {
+        mul_limbs_small(a, b)
+    }
+    #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+    {
+        ((a as i64 * b as i64 + HALF_ULP) >> FRAC) as i32
+    }
+}
+
+/// [`mul_raw_limbs`] without its two tests, for [`mul_raw_small`] on Armv6-M.
+#[inline(always)]
+#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+fn mul_limbs_small(a: i32, b: i32) -> i32 {
+    const F: u32 = FRAC - 16;
+    let (ah, bh, al, bl) = (a >> 16, b >> 16, a & 0xFFFF, b & 0xFFFF);
+    let h = ah.wrapping_mul(bh);
+    let l = (al as u32).wrapping_mul(bl as u32).wrapping_add((HALF_ULP & 0xFFFF) as u32);
+    let c1 = ah.wrapping_mul(bl).wrapping_add((l >> 16) as i32).wrapping_add((HALF_ULP >> 16) as i32);
+    let c2 = al.wrapping_mul(bh);
+    (h << (32 - FRAC)).wrapping_add(c1.wrapping_add(c2) >> F)
+}
+
+/// `a²` rounded, for `|a|` at most 4 ([`SMALL`]): bit for bit the product,
+/// without its range tests.
+#[inline(always)]
+fn square_raw_small(a: i32) -> i32 {
+    debug_assert!(a.unsigned_abs() <= SMALL as u32);
+    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+    {
+        let ah = a >> 16;
+        square_limbs_fast(a, ah.wrapping_mul(ah))
+    }
+    #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+    {
+        ((a as i64 * a as i64 + HALF_ULP) >> FRAC) as i32
+    }
+}
+
+/// The unit vector and length of the raw vector `c`, bit for bit what the
+/// general lane code gives (`Vec3xW::normalize_with_length`: the prescale
+/// by `2^k`, the sum of squares, one reciprocal root, four products, the
+/// length scaled back), for vectors whose largest component magnitude has
+/// its top bit at 17 … 30 (from 2⁻⁷ up: `k = 23 − top ∈ [−7, 6]`, inside
+/// the exponent's clamp); `None` for the rest (zero, tiny vectors,
+/// `i32::MIN`), which take the general code.
+///
+/// There the range tests of the general code cannot fire, so they are
+/// left out: the prescaled components lie within `2²⁴` (1; `2^k` brings the
+/// largest to `[2²³, 2²⁴)`, and rounding a right shift up reaches `2²⁴` at
+/// most), so each square is at most 1, their sum `S ∈ [¼, 3]` does not
+/// saturate and is positive, `1/√S ∈ [0.57, 2]`, and every product has
+/// operands below 4 ([`mul_raw_small`]). Only the length's scaling back by
+/// `2^−k` can saturate, and keeps its test.
+#[inline(always)]
+fn unit_and_length_raw(c: [i32; 3]) -> Option<([i32; 3], i32)> {
+    let [x, y, z] = c.map(i32::unsigned_abs);
+    let m = x.max(y).max(z);
+    let top = 31 - clz(m) as i32;
+    if !(17..=30).contains(&top) {
+        return None;
+    }
+    let k = FRAC as i32 - 1 - top;
+    // `mul_pow2(k)`: a shift left that stays below 2²⁴, or a right shift
+    // rounded half up.
+    let v = if k >= 0 {
+        c.map(|c| c << k)
+    } else {
+        let s = k.unsigned_abs();
+        c.map(|c| (c >> s).wrapping_add((c >> (s - 1)) & 1))
+    };
+    let [sx, sy, sz] = v.map(square_raw_small);
+    let squared = sx.wrapping_add(sy).wrapping_add(sz);
+    let inv = Fixed32(squared).inverse_sqrt().0;
+    let len = mul_raw_small(squared, inv);
+    Some((v.map(|v| mul_raw_small(v, inv)), Fixed32(len).mul_pow2(-k).0))
+}
+
 /// [`mul_raw_limbs`] for products of magnitude about `2^(30−FRAC)` and up
 /// and for cross sums past 32 bits (rare: out of line): the exact `i64`
 /// product and clamp.
@@ -1108,12 +1231,56 @@ const fn raw_from_f32(v: f32) -> i32 {
 // ---------------------------------------------------------------------------
 // Operators.
 
+// The sum and the difference saturate to `[−MAX, MAX]`. The wrapped
+// result is that whenever the operation did not overflow and is not
+// `i32::MIN` (`−MAX − 1`, reachable without overflow): a flag test and a
+// compare, the rare rest out of line. Formed as `saturating_add` and a
+// clamp to `−MAX`, the common case took a constant load and a compare more
+// on Armv6-M (`s << 1 == 0 && s != 0` is `s == i32::MIN`; written so, the
+// Cortex-M0 frame retired 0.1 % fewer instructions than with `==`). Only
+// there, and not with `compact-mul`: the out-of-line calls made the
+// size-optimised `fixed32` image 3.2 KB larger and no faster, and on
+// RV32IMAC (no flags) the test image larger and slower.
+
+/// The saturated sum's rare cases (overflow, `i32::MIN`).
+#[cfg_attr(
+    not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))),
+    allow(dead_code)
+)]
+#[cold]
+#[inline(never)]
+fn add_rare(a: i32, b: i32) -> i32 {
+    // saturating_add may give i32::MIN; −MAX is the bottom of the range.
+    a.saturating_add(b).max(RAW_MIN)
+}
+
+/// The saturated difference's rare cases (overflow, `i32::MIN`).
+#[cfg_attr(
+    not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))),
+    allow(dead_code)
+)]
+#[cold]
+#[inline(never)]
+fn sub_rare(a: i32, b: i32) -> i32 {
+    a.saturating_sub(b).max(RAW_MIN)
+}
+
 impl Add for Fixed32 {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
-        // saturating_add may give i32::MIN; −MAX is the bottom of the range.
-        Fixed32(self.0.saturating_add(o.0).max(RAW_MIN))
+        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul")))]
+        {
+            let (s, v) = self.0.overflowing_add(o.0);
+            if v || (s.wrapping_shl(1) == 0 && s != 0) {
+                return Fixed32(add_rare(self.0, o.0));
+            }
+            Fixed32(s)
+        }
+        #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))))]
+        {
+            Fixed32(self.0.saturating_add(o.0).max(RAW_MIN))
+        }
     }
 }
 
@@ -1121,7 +1288,18 @@ impl Sub for Fixed32 {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
-        Fixed32(self.0.saturating_sub(o.0).max(RAW_MIN))
+        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul")))]
+        {
+            let (s, v) = self.0.overflowing_sub(o.0);
+            if v || (s.wrapping_shl(1) == 0 && s != 0) {
+                return Fixed32(sub_rare(self.0, o.0));
+            }
+            Fixed32(s)
+        }
+        #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))))]
+        {
+            Fixed32(self.0.saturating_sub(o.0).max(RAW_MIN))
+        }
     }
 }
 
@@ -1205,6 +1383,38 @@ impl Scalar for Fixed32 {
     const SCENE_FRAME: Option<f32> = Some(1.0);
     const NORMALIZE_PRESCALE: bool = true;
     const SPARSE_PRODUCTS: bool = true;
+
+    /// On Armv6-M three partial products ([`square_raw_limbs`]), elsewhere
+    /// the product; the same bits.
+    #[inline(always)]
+    fn square(self) -> Self {
+        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+        {
+            Fixed32(square_raw_limbs(self.0))
+        }
+        #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+        {
+            self * self
+        }
+    }
+
+    /// [`mul_raw_small`]: the product without its range tests.
+    #[inline(always)]
+    fn mul_small(self, o: Self) -> Self {
+        Fixed32(mul_raw_small(self.0, o.0))
+    }
+    /// [`square_raw_small`]: the square without its range test.
+    #[inline(always)]
+    fn square_small(self) -> Self {
+        Fixed32(square_raw_small(self.0))
+    }
+
+    /// [`unit_and_length_raw`]: the general code without the range tests
+    /// that cannot fire, for every vector from 2⁻⁷ up.
+    #[inline(always)]
+    fn unit_and_length(v: [Self; 3]) -> Option<([Self; 3], Self)> {
+        unit_and_length_raw(v.map(|c| c.0)).map(|(n, len)| (n.map(Fixed32), Fixed32(len)))
+    }
 
     /// `2^k` for the `k` that brings `self` into `[½, 1)`, with `k` clamped to
     /// `[−8, 6]` (so `2^k` is representable and a vector of components up to
@@ -1822,6 +2032,99 @@ mod tests {
             }
         }
         assert!(overflowing > 10_000, "{overflowing} pairs overflowed the cross sum");
+    }
+
+    /// The Armv6-M square equals the product of a value by itself rounded
+    /// half up: every high limb (so both sides of the fast path's bound,
+    /// `|aₕ| = 2¹¹`, and the saturation at 128) with the low limbs at their
+    /// edges and seeded ones, and `i32::MIN`.
+    #[test]
+    fn square_limbs_is_the_product_by_itself() {
+        let mut rng = Rng(0x5A0A);
+        let want = |a: i32| mul_reference(a, a);
+        assert_eq!(square_raw_limbs(i32::MIN), want(i32::MIN));
+        for ah in -(1i32 << 15)..(1 << 15) {
+            let seeded = [rng.u32() & 0xFFFF, rng.u32() & 0xFFFF, rng.u32() >> 16];
+            for al in [0, 1, 0x7F, 0x80, 0x7FFF, 0x8000, 0x8001, 0xFFFE, 0xFFFF].into_iter().chain(seeded) {
+                let a = (ah << 16) | al as i32;
+                assert_eq!(square_raw_limbs(a), want(a), "{a}²");
+            }
+        }
+        for _ in 0..1_000_000 {
+            let a = (rng.u32() >> (rng.u32() % 20)) as i32;
+            let a = if rng.u32() & 1 == 0 { a } else { a.wrapping_neg() };
+            assert_eq!(square_raw_limbs(a), want(a), "{a}²");
+            assert_eq!(Fixed32(a).square(), Fixed32(a) * Fixed32(a));
+        }
+    }
+
+    /// The products without range tests equal the product for operands
+    /// at most 4 in magnitude, the bound itself included: the Armv6-M limbs
+    /// (tested here on the host) and the portable form.
+    #[test]
+    fn small_products_are_the_product_up_to_four() {
+        let mut rng = Rng(0x5A11);
+        let edge = SMALL;
+        let edges = [0, 1, -1, 0xFFFF, 0x10000, -0x10000, RAW_ONE, -RAW_ONE, edge, -edge, edge - 0xFFFF, 1 - edge];
+        let seeded = (0..1_000_000).map(|_| {
+            let a = (rng.u32() >> (6 + rng.u32() % 24)) as i32;
+            if rng.u32() & 1 == 0 {
+                a
+            } else {
+                -a
+            }
+        });
+        let all: Vec<i32> = edges.into_iter().chain(seeded).collect();
+        for w in all.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            for (a, b) in [(a, b), (a, edges[(b & 7) as usize + 4])] {
+                let want = mul_reference(a, b);
+                assert_eq!(mul_limbs_small(a, b), want, "{a} * {b} (limbs)");
+                assert_eq!(mul_raw_small(a, b), want, "{a} * {b}");
+            }
+            assert_eq!(square_limbs_fast(a, (a >> 16) * (a >> 16)), mul_reference(a, a), "{a}² (limbs)");
+            assert_eq!(square_raw_small(a), mul_reference(a, a), "{a}²");
+        }
+    }
+
+    /// The shorter normalisation gives the general code's bits wherever it
+    /// answers, and answers for every vector from 2⁻⁷ up (top bit 17 …
+    /// 30); zero, tiny vectors and `i32::MIN` go to the general code.
+    #[test]
+    fn unit_and_length_is_the_general_normalisation() {
+        use crate::geom::vec3::Vec3;
+        let mut rng = Rng(0x0417);
+        let mut answered = 0;
+        for i in 0..300_000 {
+            // Every magnitude: a random shift per component, some zeros.
+            let mut c = [0i32; 3];
+            for v in c.iter_mut() {
+                let r = (rng.u32() >> (1 + rng.u32() % 31)) as i32;
+                *v = match rng.u32() % 8 {
+                    0 => 0,
+                    1 => -r,
+                    _ => r,
+                };
+            }
+            if i == 0 {
+                c = [RAW_MIN, 0, 0];
+            }
+            let v = Vec3::new(Fixed32(c[0]), Fixed32(c[1]), Fixed32(c[2]));
+            let packet: crate::geom::vec3::Vec3xW<Fixed32, 1> = v.splat();
+            let (n, len, ok) = packet.normalize_general::<false>();
+            let top = 31 - c.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0).leading_zeros() as i32;
+            match unit_and_length_raw(c) {
+                Some((fast_n, fast_len)) => {
+                    answered += 1;
+                    assert!((17..=30).contains(&top), "{c:?}");
+                    assert!(ok.get(0), "{c:?}");
+                    assert_eq!(fast_n, [n.x.0[0].0, n.y.0[0].0, n.z.0[0].0], "{c:?}");
+                    assert_eq!(fast_len, len.0[0].0, "{c:?}");
+                }
+                None => assert!(!(17..=30).contains(&top) || c.contains(&i32::MIN), "{c:?}"),
+            }
+        }
+        assert!(answered > 200_000, "{answered}");
     }
 
     /// Products next to every threshold of the two-word rounding: ±64 (where

@@ -249,6 +249,29 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
     lane_cmp!(/// `self != o` per lane (true for NaN).
         ne_lanes, !=);
 
+    /// Every lane squared ([`Scalar::square`]: bit for bit `self * self`).
+    #[inline(always)]
+    pub fn square(self) -> Self {
+        self.map(S::square)
+    }
+
+    /// Lane-wise [`Scalar::mul_small`]: the product, for factors at most 4
+    /// in magnitude.
+    #[inline(always)]
+    pub fn mul_small(self, o: Self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] = r[i].mul_small(o.0[i]);
+        }
+        Lanes(r)
+    }
+
+    /// Lane-wise [`Scalar::square_small`].
+    #[inline(always)]
+    pub fn square_small(self) -> Self {
+        self.map(S::square_small)
+    }
+
     /// Applies `f` to every lane.
     #[inline(always)]
     pub fn map(self, f: impl Fn(S) -> S) -> Self {

@@ -107,6 +107,43 @@ pub trait Scalar:
     /// or NaN for some `x`).
     const SPARSE_PRODUCTS: bool = false;
 
+    /// `self * self`, bit for bit. A scalar may form a square more cheaply
+    /// than a general product (Q8.24 on Armv6-M: three partial products,
+    /// not four); the default is the product.
+    #[inline(always)]
+    fn square(self) -> Self {
+        self * self
+    }
+
+    /// `self * o` for factors at most 4 in magnitude (components of unit
+    /// vectors the tracer made itself: directions, normals, cosines), bit
+    /// for bit the product there; a scalar of limited range
+    /// ([`Scalar::LIMITED_RANGE`]) may leave out the range tests of its
+    /// product that cannot fire for such factors, and for larger factors
+    /// gives an unspecified value (never a panic in release builds). Other
+    /// scalars give the product: the default.
+    #[inline(always)]
+    fn mul_small(self, o: Self) -> Self {
+        self * o
+    }
+    /// [`Scalar::square`] for `self` at most 4 in magnitude, as
+    /// [`Scalar::mul_small`] is the product.
+    #[inline(always)]
+    fn square_small(self) -> Self {
+        self.square()
+    }
+
+    /// One vector's unit vector and length (components `v`), bit for bit
+    /// what the general lane code of `Vec3xW::normalize_with_length` gives
+    /// it (whose length is then positive), where a scalar has a shorter
+    /// route to the same bits; `None` sends the vector, and its packet, to
+    /// the general code. Used only when [`Scalar::NORMALIZE_PRESCALE`]
+    /// holds; the default has no shorter route.
+    #[inline(always)]
+    fn unit_and_length(_v: [Self; 3]) -> Option<([Self; 3], Self)> {
+        None
+    }
+
     /// A power of two `f` (so `v·f` is exact) that brings a magnitude
     /// `self >= 0` near 1; used only when [`Scalar::NORMALIZE_PRESCALE`]
     /// is set. The default is 1.

@@ -762,7 +762,8 @@ impl<S: Scalar> ShadowCull<S> {
             if inside.none() {
                 return false;
             }
-            o.limit == S::MAX || (inside & dir.dot_splat(o.axis).le(Lanes::splat(o.limit))).any()
+            // (Unit vectors: products of small factors.)
+            o.limit == S::MAX || (inside & dir.dot_splat_small(o.axis).le(Lanes::splat(o.limit))).any()
         };
         if let (true, Some([cx, cy, cz])) = (cells_first, self.cells.get(light)) {
             // One ray: only the entries whose direction box can hold its
@@ -843,17 +844,27 @@ impl<S: Scalar> ShadowCull<S> {
             if active.none() {
                 continue;
             }
-            // Lanes too far out for the scalar's range: a candidate.
+            // Lanes too far out for the scalar's range: a candidate, with
+            // no products.
             let near = oc.x.abs().le(range) & oc.y.abs().le(range) & oc.z.abs().le(range);
-            let b = oc.dot(ray.dir);
-            let oc2 = oc.dot(oc);
-            let bb = b * b;
+            if active.and_not(near).any() {
+                m |= 1 << k;
+                continue;
+            }
+            // Every active lane's `C − O` is now within 4 on each axis in a
+            // scalar of limited range, and `d` is a unit vector: products
+            // of small factors (the other lanes' vectors zeroed; at width 1
+            // the one lane is active).
+            let oc = if W == 1 { oc } else { Vec3xW::select(active, oc, Vec3::new(zero, zero, zero)) };
+            let b = oc.dot_small(ray.dir);
+            let oc2 = oc.norm_squared_small();
+            let bb = b.square();
             // (The slack as a shift in fixed point, where a product is a
             // routine; a product by the constant in floating point.)
             let r2 = Lanes::splat(e.r2) + if S::SPARSE_PRODUCTS { oc2.mul_pow2([-10; W]) } else { oc2 * slack };
             // Outside the line's reach, or wholly behind the origin.
             let missed = (oc2 - bb).gt(r2) | (b.lt(zero) & bb.gt(r2));
-            if active.and_not(near & missed).any() {
+            if active.and_not(missed).any() {
                 m |= 1 << k;
             }
         }

@@ -412,7 +412,12 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 continue;
             }
             let (surf, mat) = self.surface_and_materials(&p.ray, &hit);
-            let local = self.local(&p.ray, &hit, &surf, &mat, whitted, shadows, stats);
+            // The offset of rays leaving the hit points (shadow, reflected,
+            // refracted), once per hit: `eps` scales with the coordinates,
+            // `off` is the geometric normal times it.
+            let eps = offset_scale(&surf.point);
+            let off = surf.geometric.scale_sparse(eps);
+            let local = self.local(&p.ray, &hit, &surf, &mat, (eps, &off), whitted, shadows, stats);
             // Local light, weighted by (1 − Kt) in Whitted mode.
             let w_local = if whitted { p.weight * (Lanes::splat(S::ONE) - mat.kt) } else { p.weight };
             let w_local = Lanes::select(hit.mask, w_local, zero);
@@ -421,7 +426,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             if !whitted || p.depth >= self.settings.max_depth {
                 continue;
             }
-            self.spawn(&p, &hit, &surf, &mat, &mut stack);
+            self.spawn(&p, &hit, &surf, &mat, &off, &mut stack);
         }
         color
     }
@@ -438,6 +443,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         hit: &Hit<S, W>,
         surf: &SurfacePacket<S, W>,
         mat: &Materials<S, W>,
+        (eps, off): (Lanes<S, W>, &Vec3xW<S, W>),
         shadows: bool,
         cull: Option<&ShadowCull<S>>,
         stats: &mut RayStats,
@@ -445,8 +451,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let zero = Lanes::<S, W>::zero();
         let mut local = mat.color.scale(mat.ka);
         let view = -ray.dir;
-        let eps = offset_scale(&surf.point);
-        let shadow_origin = surf.point + surf.geometric.scale_sparse(eps);
+        let shadow_origin = surf.point + *off;
         let lights = self.scene.lights();
         // The geometric normal is the shading one except on patches; where
         // every lane's are equal, so are their products with a light's
@@ -459,8 +464,9 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             let (l_dir, dist, ok) = to_light.normalize_with_length();
             // (Normals are often axis-aligned: `*_sparse` skips their
             // zero components' products in fixed point, the same bits.)
-            let n_dot_l = surf.shading.dot_sparse(l_dir);
-            let g_dot_l = if flat { n_dot_l } else { surf.geometric.dot_sparse(l_dir) };
+            // (Unit vectors the tracer made: products of small factors.)
+            let n_dot_l = surf.shading.dot_sparse_small(l_dir);
+            let g_dot_l = if flat { n_dot_l } else { surf.geometric.dot_sparse_small(l_dir) };
             // Only lights on the lit side of both the geometric and the shading surface.
             let lit = hit.mask & ok & n_dot_l.gt(zero) & g_dot_l.gt(zero);
             if lit.none() {
@@ -518,6 +524,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         hit: &Hit<S, W>,
         surf: &SurfacePacket<S, W>,
         mat: &Materials<S, W>,
+        off: &Vec3xW<S, W>,
         stack: &mut HVec<Pending<S, W>, D>,
     ) {
         let zero = Lanes::<S, W>::zero();
@@ -527,28 +534,33 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         // cos θi = −d·N (N faces the ray).
         let cos_i = -(n.dot_sparse(d));
         // Relative index η = n₁/n₂: entering goes from outside (1) into the material.
-        let ior = mat.ior;
         let has_t = hit.mask & mat.kt.gt(zero);
-        // η only matters where there is transmission: without any, no division.
-        let eta = if has_t.any() { Lanes::select(surf.entering, one.div_nonzero(ior), ior) } else { one };
-        // k = 1 − η²(1 − cos²θi); negative means total internal reflection.
-        let k = one - eta * eta * (one - cos_i * cos_i);
-        let tir = has_t & k.lt(zero);
-        let w_refl = p.weight * mat.kr + Lanes::select(tir, p.weight * mat.kt, zero);
-        let w_refr = Lanes::select(has_t.and_not(tir), p.weight * mat.kt, zero);
+        // η, k and the transmitted weight only matter where there is
+        // transmission: without any, no division and no products (and the
+        // same weights: `x + 0` is `x` for the non-negative weights).
+        let (eta, k, tir, w_refl, w_refr) = if has_t.any() {
+            let ior = mat.ior;
+            let eta = Lanes::select(surf.entering, one.div_nonzero(ior), ior);
+            // k = 1 − η²(1 − cos²θi); negative means total internal reflection.
+            let k = one - eta * eta * (one - cos_i.square());
+            let tir = has_t & k.lt(zero);
+            let w_refl = p.weight * mat.kr + Lanes::select(tir, p.weight * mat.kt, zero);
+            let w_refr = Lanes::select(has_t.and_not(tir), p.weight * mat.kt, zero);
+            (eta, k, tir, w_refl, w_refr)
+        } else {
+            (one, zero, Mask::splat(false), p.weight * mat.kr + zero, zero)
+        };
         let min_w = Lanes::splat(self.settings.min_weight);
         let refl = hit.mask & w_refl.gt(min_w);
         let refr = has_t.and_not(tir) & w_refr.gt(min_w);
 
-        let eps = offset_scale(&surf.point);
-        let off = surf.geometric.scale_sparse(eps);
         // Refracted: T = η d + (η cos θi − √k) N, leaving from the far side.
         if refr.any() {
             let sq = Lanes::select(refr, k, zero).sqrt();
             let t_dir = d.scale(eta) + n.scale_sparse(eta * cos_i - sq);
             let (t_dir, ok) = t_dir.normalize();
             let _ = stack.push(Pending {
-                ray: RayPacket { origin: surf.point - off, dir: t_dir },
+                ray: RayPacket { origin: surf.point - *off, dir: t_dir },
                 weight: Lanes::select(refr, w_refr, zero),
                 active: refr & ok,
                 depth: p.depth.saturating_add(1),
@@ -560,7 +572,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             let r_dir = d + n.scale_sparse(cos_i * S::TWO);
             let (r_dir, ok) = r_dir.normalize();
             let _ = stack.push(Pending {
-                ray: RayPacket { origin: surf.point + off, dir: r_dir },
+                ray: RayPacket { origin: surf.point + *off, dir: r_dir },
                 weight: Lanes::select(refl, w_refl, zero),
                 active: refl & ok,
                 depth: p.depth.saturating_add(1),

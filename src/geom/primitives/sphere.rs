@@ -75,7 +75,7 @@ impl<S: Scalar> Sphere<S> {
         // does not suffer the cancellation of the textbook b² − c (whose
         // c = |oc|² − r² keeps nothing of r² for a far origin).
         let perp = oc - ray.dir.scale(b);
-        let disc = Lanes::splat(self.radius2) - perp.dot(perp);
+        let disc = Lanes::splat(self.radius2) - perp.norm_squared();
         let valid = active & disc.ge(Lanes::zero());
         if valid.none() {
             return Roots::none();
