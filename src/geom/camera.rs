@@ -300,9 +300,145 @@ impl<S: Scalar> Camera<S> {
     }
 }
 
+/// The terms of a row of packets of camera rays that depend only on the
+/// row ([`Camera::packet_row`]): for each lane, whether its pixel row is
+/// inside the clip and the image, and `up·sy` for that row and for row 0
+/// (which [`Camera::subpixel_packet`] uses for lanes outside the clip).
+/// With it, [`Camera::packet_in_row`] forms the packets of the row with
+/// the same bits as [`Camera::packet`], without the per-row quotient and
+/// products at every packet.
+#[derive(Clone, Copy, Debug)]
+pub struct PacketRow<S, const W: usize> {
+    y: u32,
+    clip: Rect,
+    rows_inside: [bool; W],
+    up_sy: Vec3<Lanes<S, W>>,
+    up_sy0: Vec3<Lanes<S, W>>,
+}
+
+impl<S: Scalar, const W: usize> PacketRow<S, W> {
+    /// The top pixel row of the packets this row serves.
+    pub fn y(&self) -> u32 {
+        self.y
+    }
+}
+
+impl<S: Scalar> Camera<S> {
+    /// The row terms of the packets whose top-left pixels lie on row `y`,
+    /// clipped to `clip` (see [`PacketRow`]).
+    pub fn packet_row<const W: usize>(&self, y: u32, clip: Rect) -> PacketRow<S, W> {
+        let (pw, _) = packet_shape(W);
+        let mut vn = [1u32; W];
+        let mut rows_inside = [false; W];
+        for l in 0..W {
+            let j = y.saturating_add(l as u32 / pw);
+            let inside = (j >= clip.y) & (j.wrapping_sub(clip.y) < clip.h) & (j < self.height);
+            rows_inside[l] = inside;
+            // As `subpixel_packet` with one sample: `2j + 1`, row 0's for
+            // lanes outside (below 2·65535 + 1: no overflow).
+            vn[l] = if inside { 2 * j + 1 } else { 1 };
+        }
+        let up_sy = |vn: [u32; W]| {
+            let mut v = Lanes::<S, W>::zero();
+            for l in 0..W {
+                v.0[l] = S::ratio_by(vn[l], &self.height_div);
+            }
+            let sy = (Lanes::splat(S::ONE) - v) * self.sy_scale;
+            // The products `add_splat_scaled` forms (a zero component's is
+            // never added where products of zero are skipped).
+            Vec3::new(Lanes::splat(self.up.x) * sy, Lanes::splat(self.up.y) * sy, Lanes::splat(self.up.z) * sy)
+        };
+        PacketRow { y, clip, rows_inside, up_sy: up_sy(vn), up_sy0: up_sy([1; W]) }
+    }
+
+    /// The packet of [`Camera::packet`]`(x, row.y(), clip)` (the row's
+    /// clip), bit for bit, from the row's terms.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    pub fn packet_in_row<const W: usize>(&self, row: &PacketRow<S, W>, x: u32) -> (RayPacket<S, W>, Mask<W>) {
+        let (pw, _) = packet_shape(W);
+        let clip = row.clip;
+        let mut un = [0u32; W];
+        let mut inside = [false; W];
+        for l in 0..W {
+            let i = x.saturating_add(l as u32 % pw);
+            let inside_l = (i >= clip.x) & (i.wrapping_sub(clip.x) < clip.w) & (i < self.width) & row.rows_inside[l];
+            inside[l] = inside_l;
+            un[l] = 2 * (if inside_l { i } else { 0 }) + 1;
+        }
+        let mut u = Lanes::<S, W>::zero();
+        for l in 0..W {
+            u.0[l] = S::ratio_by(un[l], &self.width_div);
+        }
+        let sx = (u - Lanes::splat(S::ONE)) * self.sx_scale;
+        let base = self.forward.splat::<W>().add_splat_scaled(self.right, sx);
+        let m = Mask::from_array(inside);
+        // `+ up·sy` as `add_splat_scaled` adds it, the row's products.
+        let term = |acc: Lanes<S, W>, c: S, t: Lanes<S, W>, t0: Lanes<S, W>| {
+            if S::SPARSE_PRODUCTS && c == S::ZERO {
+                acc
+            } else {
+                acc + Lanes::select(m, t, t0)
+            }
+        };
+        let dir = Vec3::new(
+            term(base.x, self.up.x, row.up_sy.x, row.up_sy0.x),
+            term(base.y, self.up.y, row.up_sy.y, row.up_sy0.y),
+            term(base.z, self.up.z, row.up_sy.z, row.up_sy0.z),
+        );
+        let (ray, ok) = RayPacket::new(self.eye.splat(), dir);
+        (ray, ok & m)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Rays from a packet row's terms are [`Camera::packet`]'s, bit for
+    /// bit, in every lane (active or not), for tilted cameras, clips inside,
+    /// across and outside the image, every packet position of a band
+    /// (including those hanging over the edges) and widths 1 to 16.
+    fn rows_agree<S: Scalar + PartialEq + core::fmt::Debug, const W: usize>() {
+        let v = |x: f32, y: f32, z: f32| Vec3::new(S::from_f32(x), S::from_f32(y), S::from_f32(z));
+        let cams = [
+            Camera::new(v(0.0, 0.0, 0.0), v(0.0, 0.0, -1.0), v(0.0, 1.0, 0.0), 60.0, 13, 9),
+            Camera::new(v(0.3, -0.2, 0.9), v(-0.1, 0.2, -0.4), v(0.2, 1.0, 0.1), 75.0, 13, 9),
+            Camera::new(v(0.5, 0.5, 0.5), v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), 40.0, 7, 16),
+        ];
+        for cam in cams.into_iter().map(|c| c.unwrap()) {
+            let (w, h) = (cam.width(), cam.height());
+            let clips = [
+                cam.full_rect(),
+                Rect { x: 2, y: 1, w: 7, h: 5 },
+                Rect { x: 3, y: 2, w: 40, h: 40 },
+                Rect { x: 50, y: 0, w: 3, h: 3 },
+            ];
+            let (pw, ph) = packet_shape(W);
+            for clip in clips {
+                for y in (0..h + 2).step_by(ph as usize) {
+                    let row = cam.packet_row::<W>(y, clip);
+                    for x in (0..w + 2).step_by(pw as usize) {
+                        let (want, want_m) = cam.packet::<W>(x, y, clip);
+                        let (got, got_m) = cam.packet_in_row(&row, x);
+                        assert_eq!(got_m, want_m, "({x}, {y}) in {clip:?}");
+                        assert_eq!(got.origin, want.origin);
+                        assert_eq!(got.dir, want.dir, "({x}, {y}) in {clip:?}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn packet_rows_give_the_packets() {
+        rows_agree::<f32, 1>();
+        rows_agree::<f32, 4>();
+        rows_agree::<f32, 8>();
+        rows_agree::<f32, 16>();
+        rows_agree::<crate::num::fixed32::Fixed32, 1>();
+        rows_agree::<crate::num::fixed32::Fixed32, 4>();
+        rows_agree::<crate::num::fixed32::Fixed32, 16>();
+    }
 
     fn cam(w: u32, h: u32) -> Camera<f32> {
         Camera::new(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 1.0, 0.0), 90.0, w, h).unwrap()

@@ -309,19 +309,27 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
             // The closures are inlined like the functions around them: under
             // a dispatched instruction set an out-of-line closure would be
             // compiled for the baseline only (scripts/check-asm.sh checks).
-            Sampling::Centre => self.packets::<W>(
-                rect,
-                rect,
-                out,
-                #[cfg_attr(
-                    all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")),
-                    inline(always)
-                )]
-                |x, y| {
-                    let (ray, active) = self.camera.packet::<W>(x, y, rect);
-                    (self.shade_packet(&ray, active, cull.at::<W>(x, y), cull.shadow, stats), active)
-                },
-            ),
+            Sampling::Centre => {
+                // The terms of the packets' row, kept while the row lasts
+                // (`packets` walks a block's rows, each from left to right).
+                let mut row = self.camera.packet_row::<W>(rect.y, rect);
+                self.packets::<W>(
+                    rect,
+                    rect,
+                    out,
+                    #[cfg_attr(
+                        all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")),
+                        inline(always)
+                    )]
+                    |x, y| {
+                        if row.y() != y {
+                            row = self.camera.packet_row::<W>(y, rect);
+                        }
+                        let (ray, active) = self.camera.packet_in_row(&row, x);
+                        (self.shade_packet(&ray, active, cull.at::<W>(x, y), cull.shadow, stats), active)
+                    },
+                )
+            }
             Sampling::Grid(_) => {
                 let n = sampling.grid();
                 self.packets::<W>(
