@@ -120,8 +120,8 @@ pub trait Scalar:
     /// for bit the product there; a scalar of limited range
     /// ([`Scalar::LIMITED_RANGE`]) may leave out the range tests of its
     /// product that cannot fire for such factors, and for larger factors
-    /// gives an unspecified value (never a panic in release builds). Other
-    /// scalars give the product: the default.
+    /// gives an unspecified value (never a panic), which callers keep only
+    /// in lanes they mask out. Other scalars give the product: the default.
     #[inline(always)]
     fn mul_small(self, o: Self) -> Self {
         self * o

@@ -762,7 +762,9 @@ impl<S: Scalar> ShadowCull<S> {
             if inside.none() {
                 return false;
             }
-            // (Unit vectors: products of small factors.)
+            // (The lanes inside the box have direction components within
+            // 1 + 2⁻¹²: products of small factors, exact there; the other
+            // lanes' values are not used.)
             o.limit == S::MAX || (inside & dir.dot_splat_small(o.axis).le(Lanes::splat(o.limit))).any()
         };
         if let (true, Some([cx, cy, cz])) = (cells_first, self.cells.get(light)) {
@@ -823,6 +825,14 @@ impl<S: Scalar> ShadowCull<S> {
         let range = Lanes::splat(if S::LIMITED_RANGE { S::from_f32(REACH_RANGE) } else { S::MAX });
         let slack = Lanes::splat(S::from_f32(1.0 / 1024.0));
         let zero = Lanes::<S, W>::zero();
+        // The products below take unit directions as small factors: a
+        // packet with a direction component beyond 4 (not a unit vector,
+        // so not the tracer's) tests everything.
+        let four = Lanes::splat(S::from_f32(4.0));
+        let d = &ray.dir;
+        if active.and_not(d.x.abs().le(four) & d.y.abs().le(four) & d.z.abs().le(four)).any() {
+            return ALL;
+        }
         for k in candidate_indices(!self.reach_always, self.reach_len) {
             let Some(e) = self.reach.get(k) else { break };
             let oc = e.centre.splat::<W>() - ray.origin;
@@ -832,7 +842,6 @@ impl<S: Scalar> ShadowCull<S> {
             // within one rounding of its own magnitude in floating point,
             // far less than `R`'s growth; saturated components keep their
             // sign.)
-            let d = &ray.dir;
             let (r, nr) = (Lanes::splat(e.r), Lanes::splat(-e.r));
             let away = (oc.x.gt(r) & d.x.le(zero))
                 | (oc.x.lt(nr) & d.x.ge(zero))
@@ -1179,6 +1188,11 @@ mod tests {
             // No active lane: only the primitives always tested.
             let (r, _) = ray(v(0.0, 0.0, 0.0), v(0.0, 1.0, 0.0));
             assert_eq!(c.reach_candidates(&r, Mask::splat(false)) & 0b111, 0b110);
+            // A direction that is not a unit vector (a component beyond 4,
+            // where the products of small factors do not hold): everything,
+            // even heading away from the box.
+            let far = RayPacket::<S, 1> { origin: v(0.0, 0.0, 0.0).splat(), dir: v(-5.0, 0.0, 0.0).splat() };
+            assert_eq!(c.reach_candidates(&far, Mask::splat(true)), ALL);
         }
         one::<f32>();
         one::<Fixed32>();
