@@ -344,6 +344,7 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     pub fn dot_splat_small(self, v: Vec3<S>) -> Lanes<S, W> {
         self.dot_splat_by(v, Lanes::mul_small)
     }
+    /// [`Vec3xW::dot_splat`] with the lane product `mul`.
     #[inline(always)]
     fn dot_splat_by(self, v: Vec3<S>, mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>) -> Lanes<S, W> {
         let m = |a: Lanes<S, W>, b: S| mul(a, Lanes::splat(b));
@@ -377,6 +378,7 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     pub fn dot_sparse_small(self, o: Self) -> Lanes<S, W> {
         self.dot_sparse_by(o, Lanes::mul_small)
     }
+    /// [`Vec3xW::dot_sparse`] with the lane product `mul`.
     #[inline(always)]
     fn dot_sparse_by(self, o: Self, mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>) -> Lanes<S, W> {
         if S::SPARSE_PRODUCTS {
