@@ -327,3 +327,99 @@ fn reach_spheres_hold_every_crossing() {
         assert!(c.0 > 500 && c.1 > 2000, "{name}: {} crossings, {} culled tests", c.0, c.1);
     }
 }
+
+/// Shadow rays as the tracer casts them (from a point `P` moved off its
+/// surface by `eps` along a normal, towards a light, `t` in `(0, |L − P|)`)
+/// never cross a plane that `ShadowCull::candidates_from` leaves out:
+/// planes with lights well above, just past the side margin and far away,
+/// origins on the plane itself (hit points of the floor), just above and
+/// below it, and anywhere in the scene. Returns (crossings, plane tests
+/// left out): both must be many, or the test proves nothing.
+fn planes_hold_shadow_crossings<S: Scalar>(seed: u64, cases: u32, scale: f32) -> (usize, usize) {
+    let mut rng = Rng(seed);
+    let (mut crossings, mut culled) = (0, 0);
+    let f = |x: f32| S::from_f32(x * scale);
+    let v = |p: Vec3<f32>| Vec3::new(f(p.x), f(p.y), f(p.z));
+    for _ in 0..cases {
+        let mut scene = Scene::<S, 8, 8, 2, 2>::new();
+        let m = scene.add_material(Material::diffuse(Vec3::new(S::ONE, S::ONE, S::ONE))).unwrap();
+        // One or two planes through points of [−1, 1]³, a box for extent.
+        let planes: Vec<(Vec3<f32>, f32)> = (0..1 + rng.below(2))
+            .map(|_| {
+                let n = if rng.below(2) == 0 { Vec3::new(0.0, 0.0, 1.0) } else { rng.unit() };
+                (n, -n.dot(rng.vec(-1.0, 1.0)))
+            })
+            .collect();
+        for &(n, d) in &planes {
+            scene.add_plane(S::from_f32(n.x), S::from_f32(n.y), S::from_f32(n.z), f(d), m).unwrap();
+        }
+        let (lo, hi) = (rng.vec(-1.5, 0.0), rng.vec(0.0, 1.5));
+        scene.add_box(v(lo), v(hi), m).unwrap();
+        // Lights: beside the first plane at a random height (some just
+        // past the margin, some on the plane's other side), or anywhere.
+        let (n0, d0) = planes[0];
+        for _ in 0..2 {
+            let q = rng.vec(-2.0, 2.0);
+            let h = match rng.below(3) {
+                0 => rng.range(-0.05, 0.05),
+                1 => rng.range(-2.0, 2.0),
+                _ => n0.dot(q) + d0,
+            };
+            let l = q - n0.scale(n0.dot(q) + d0 - h);
+            scene.add_light(v(l), Vec3::new(S::ONE, S::ONE, S::ONE)).unwrap();
+        }
+        let view = scene.view();
+        let mut cull = ShadowCull::<S>::empty();
+        cull.fill(&view).unwrap();
+        for _ in 0..300 {
+            // Hit points: on the first plane, or anywhere in the box.
+            let q = rng.vec(-2.0, 2.0);
+            let p = if rng.below(2) == 0 { q - n0.scale(n0.dot(q) + d0) } else { q };
+            let p = v(p);
+            let eps = S::RAY_EPSILON * (p.x.abs().max(p.y.abs()).max(p.z.abs()) + S::ONE);
+            // Moved off along ±n (a surface seen from either side) or a
+            // random unit normal.
+            let g = match rng.below(3) {
+                0 => n0,
+                1 => -n0,
+                _ => rng.unit(),
+            };
+            let g = Vec3::new(S::from_f32(g.x), S::from_f32(g.y), S::from_f32(g.z));
+            let o = p + g.scale(eps);
+            for (li, l) in view.lights().iter().enumerate() {
+                let (dir, dist, ok) = (l.position - p).splat::<1>().normalize_with_length();
+                if ok.none() {
+                    continue;
+                }
+                let among = cull.candidates_from(li, &o.splat(), &dir, Lanes::splat(eps), ok);
+                let ray = RayPacket { origin: o.splat(), dir };
+                for (k, prim) in view.primitives().iter().enumerate() {
+                    if !matches!(prim.shape, raypack::primitives::Shape::Plane(_)) {
+                        continue;
+                    }
+                    let r = prim.shape.roots(view.vertices(), &ray, Lanes::splat(S::ZERO), dist, ok);
+                    let kept = among >> k & 1 == 1;
+                    if r.hit0.any() {
+                        crossings += 1;
+                        assert!(kept, "plane {k} crossed by a shadow ray the cull leaves out (light {li})");
+                    } else if !kept {
+                        culled += 1;
+                    }
+                }
+            }
+        }
+    }
+    (crossings, culled)
+}
+
+#[test]
+fn shadow_planes_hold_every_crossing() {
+    for (c, name) in [
+        (planes_hold_shadow_crossings::<f32>(0x9A1, 200, 1.0), "f32"),
+        (planes_hold_shadow_crossings::<f32>(0x9A2, 60, 1.0e4), "f32 x1e4"),
+        (planes_hold_shadow_crossings::<Fixed32>(0x9A3, 200, 0.25), "fixed32"),
+        (planes_hold_shadow_crossings::<Fixed>(0x9A4, 100, 1.0), "fixed"),
+    ] {
+        assert!(c.0 > 1000 && c.1 > 10_000, "{name}: {} crossings, {} culled plane tests", c.0, c.1);
+    }
+}

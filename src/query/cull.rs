@@ -372,6 +372,27 @@ pub const SHADOW_LIGHTS: usize = 2;
 /// WebAssembly) hold 12 entries, 64-bit hosts 24.
 pub const SHADOW_OCCLUDERS: usize = if cfg!(target_pointer_width = "64") { 24 } else { 12 };
 
+/// Most planes per light whose side [`ShadowCull`] tests (further planes
+/// are always candidates).
+pub const SHADOW_PLANES: usize = 2;
+
+/// A plane `n·x + d = 0` as seen from one light, the light well away from
+/// it on the side `up` (`n·L + d > 0`) or the other: a shadow ray whose
+/// origin lies on the light's side, by more than the margin, cannot cross
+/// it before the light (see [`ShadowCull`]).
+#[derive(Clone, Copy, Debug)]
+struct PlaneSide<S> {
+    k: u8,
+    normal: Vec3<S>,
+    d: S,
+    up: bool,
+}
+
+impl<S: Scalar> PlaneSide<S> {
+    /// An unused entry.
+    const NONE: Self = PlaneSide { k: 0, normal: Vec3::ZERO, d: S::ZERO, up: true };
+}
+
 /// One primitive as seen from one light: shadow rays whose direction `d`
 /// (towards the light) lies outside the box `[dlo, dhi]`, or has
 /// `d·axis > limit`, cannot reach it. The box is tested first: six
@@ -534,6 +555,25 @@ const REACH_RANGE: f32 = 4.0;
 /// points within twice the scene's extent (`eps <= e_lim`); lanes further
 /// out (a far point of a plane) test every primitive.
 ///
+/// Planes have no bounds, but a plane `n·x + d = 0` with the light `L`
+/// at `h = n·L + d ≥ H` (or `≤ −H`) is crossed by no shadow ray whose
+/// origin's signed distance, as the plane's kernel computes it
+/// (`δ = n·O + d`, the same expression), is positive (negative). Along the
+/// ray `O + t·d` the plane's exact signed distance `f(t)` is linear, and
+/// at `D = |L − P|`, where the ray ends, `f(D) ≥ h − |O − P| − D·|d − u|`
+/// (`u` the exact direction to the light, `d` the rounded one), which the
+/// margin keeps positive. The kernel reports a crossing only for
+/// `δ > 0` with a negative rate `n·d`; then `f(0) = f(D) + |n·d|·D`, the
+/// crossing lies beyond the ray's end by at least `f(D)`, and its rounded
+/// `t = δ/|n·d|` stays above the rounded `D` (the rounding of `δ`, of the
+/// rate times `D`, and of the quotient are far below `f(D)`); with a rate
+/// near zero `t` is larger still. `H` is twice the cones' growth (which
+/// holds `|O − P|`) plus `64·max(ρ, 2⁻²⁴)·(1 + 6·extent)` for the
+/// direction's rounding over the distances to the light, hundreds of times
+/// those roundings. A plane whose light lies nearer is always tested, as
+/// is every plane for lanes on its other side or on it. At most
+/// [`SHADOW_PLANES`] per light.
+///
 /// Reflected and refracted rays (their origin `O` anywhere, unit direction
 /// `d`, `t > 0`) are culled by each bounded primitive's sphere: the sphere
 /// around its bounds, grown by `m` and by a 64th of its radius, centre
@@ -558,6 +598,10 @@ pub struct ShadowCull<S> {
     tested: [u8; SHADOW_LIGHTS],
     /// Per light, the primitives always tested (bit `k`, below `len`).
     always: [Candidates; SHADOW_LIGHTS],
+    /// Per light, the planes tested by the side of the ray's origin
+    /// (`plane_count` of them; their bits are in `always`).
+    planes: [[PlaneSide<S>; SHADOW_PLANES]; SHADOW_LIGHTS],
+    plane_count: [u8; SHADOW_LIGHTS],
     /// Per light and axis, which entries' direction boxes meet each cell
     /// of that component of the direction (see [`DirectionCells`]).
     cells: [[DirectionCells<S>; 3]; CELL_LIGHTS],
@@ -580,6 +624,8 @@ impl<S: Scalar> ShadowCull<S> {
             index: [[0; SHADOW_OCCLUDERS]; SHADOW_LIGHTS],
             tested: [0; SHADOW_LIGHTS],
             always: [ALL; SHADOW_LIGHTS],
+            planes: [[PlaneSide::NONE; SHADOW_PLANES]; SHADOW_LIGHTS],
+            plane_count: [0; SHADOW_LIGHTS],
             cells: [[DirectionCells::NONE; 3]; CELL_LIGHTS],
             lights: 0,
             len: 0,
@@ -598,6 +644,7 @@ impl<S: Scalar> ShadowCull<S> {
         self.lights = 0;
         self.len = 0;
         self.reach_len = 0;
+        self.plane_count = [0; SHADOW_LIGHTS];
         let prims = scene.primitives();
         if prims.len() > CULL_CAPACITY {
             return Err(CullError::Capacity { primitives: prims.len() });
@@ -646,6 +693,23 @@ impl<S: Scalar> ShadowCull<S> {
                 }
             }
             *tested = n as u8;
+        }
+        // Planes by side: lights at least `h_min` from them (distances
+        // from hit points to lights up to `1 + 6·extent`).
+        let h_min = 2.0 * grow + 64.0 * rho.max(1.0 / 16_777_216.0) * (1.0 + 6.0 * extent);
+        for ((planes, count), l) in self.planes.iter_mut().zip(self.plane_count.iter_mut()).zip(scene.lights()) {
+            let lp = l.position.to_f32();
+            for (k, p) in prims.iter().enumerate().take(SHADOW_OCCLUDERS) {
+                let Shape::Plane(plane) = &p.shape else { continue };
+                let (n, d) = (plane.normal_vector(), plane.offset());
+                let h = dot(n.to_f32(), lp) + d.to_f32();
+                if !(h.abs() >= h_min) {
+                    continue;
+                }
+                let Some(slot) = planes.get_mut(*count as usize) else { break };
+                *slot = PlaneSide { k: k as u8, normal: n, d, up: h > 0.0 };
+                *count += 1;
+            }
         }
         // (No cells on WebAssembly: see `CELL_LIGHTS`.)
         #[cfg(not(target_arch = "wasm32"))]
@@ -696,7 +760,8 @@ impl<S: Scalar> ShadowCull<S> {
 
     /// The primitives the shadow rays towards light `light` with unit
     /// directions `dir`, leaving hit points of offset scale `eps`, in the
-    /// lanes `lit`, can reach.
+    /// lanes `lit`, can reach (planes are always candidates: see
+    /// [`ShadowCull::candidates_from`]).
     #[inline(always)]
     pub fn candidates<const W: usize>(
         &self,
@@ -705,10 +770,39 @@ impl<S: Scalar> ShadowCull<S> {
         eps: Lanes<S, W>,
         lit: Mask<W>,
     ) -> Candidates {
+        self.candidates_with(light, None, dir, eps, lit)
+    }
+
+    /// [`ShadowCull::candidates`] for shadow rays from `origin` (the hit
+    /// points moved off their surfaces by at most `eps`) that end at the
+    /// light (`t` below the distance from the hit point to it): planes
+    /// whose light side the origins clear are left out too.
+    #[inline(always)]
+    pub fn candidates_from<const W: usize>(
+        &self,
+        light: usize,
+        origin: &Vec3xW<S, W>,
+        dir: &Vec3xW<S, W>,
+        eps: Lanes<S, W>,
+        lit: Mask<W>,
+    ) -> Candidates {
+        self.candidates_with(light, Some(origin), dir, eps, lit)
+    }
+
+    /// [`ShadowCull::candidates`] in line or out of line (see [`apart`]).
+    #[inline(always)]
+    fn candidates_with<const W: usize>(
+        &self,
+        light: usize,
+        origin: Option<&Vec3xW<S, W>>,
+        dir: &Vec3xW<S, W>,
+        eps: Lanes<S, W>,
+        lit: Mask<W>,
+    ) -> Candidates {
         if apart::<W>() {
-            self.candidates_apart(light, dir, eps, lit)
+            self.candidates_apart(light, origin, dir, eps, lit)
         } else {
-            self.candidates_here(light, dir, eps, lit, use_cells::<W>())
+            self.candidates_here(light, origin, dir, eps, lit, use_cells::<W>())
         }
     }
 
@@ -717,11 +811,12 @@ impl<S: Scalar> ShadowCull<S> {
     fn candidates_apart<const W: usize>(
         &self,
         light: usize,
+        origin: Option<&Vec3xW<S, W>>,
         dir: &Vec3xW<S, W>,
         eps: Lanes<S, W>,
         lit: Mask<W>,
     ) -> Candidates {
-        self.candidates_here(light, dir, eps, lit, use_cells::<W>())
+        self.candidates_here(light, origin, dir, eps, lit, use_cells::<W>())
     }
 
     /// [`ShadowCull::candidates`]' work; with `cells_first` (at width 1:
@@ -731,6 +826,7 @@ impl<S: Scalar> ShadowCull<S> {
     fn candidates_here<const W: usize>(
         &self,
         light: usize,
+        origin: Option<&Vec3xW<S, W>>,
         dir: &Vec3xW<S, W>,
         eps: Lanes<S, W>,
         lit: Mask<W>,
@@ -792,6 +888,19 @@ impl<S: Scalar> ShadowCull<S> {
             for (o, &k) in row.iter().zip(index).take(n as usize) {
                 if reached(o) {
                     m |= 1 << k;
+                }
+            }
+        }
+        // Planes the origins clear on the light's side (see above).
+        if let (Some(o), Some(planes), Some(&count)) = (origin, self.planes.get(light), self.plane_count.get(light)) {
+            let zero = Lanes::zero();
+            for p in planes.iter().take(count as usize) {
+                // The kernel's own signed distance (the same expression, so
+                // the same bits): on the light's side, not on the plane.
+                let dist = o.dot_splat(p.normal) + Lanes::splat(p.d);
+                let clear = if p.up { dist.gt(zero) } else { dist.lt(zero) };
+                if lit.and_not(clear).none() {
+                    m &= !(1 << p.k);
                 }
             }
         }

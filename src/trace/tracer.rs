@@ -476,7 +476,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 RayStats::tally(&mut stats.shadow, &mut stats.shadow_packets, lit.count() as u64);
                 let shadow = RayPacket { origin: shadow_origin, dir: l_dir };
                 // Only the primitives some of these rays can reach.
-                let among = cull.map_or(ALL, |c| c.candidates(li, &l_dir, eps, lit));
+                let among = cull.map_or(ALL, |c| c.candidates_from(li, &shadow_origin, &l_dir, eps, lit));
                 self.accel.transmittance_among(&self.scene, &shadow, zero, dist, lit, among)
             } else {
                 Lanes::select(lit, Lanes::splat(S::ONE), zero)
