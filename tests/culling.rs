@@ -346,7 +346,12 @@ fn planes_hold_shadow_crossings<S: Scalar>(seed: u64, cases: u32, scale: f32) ->
         // One or two planes through points of [−1, 1]³, a box for extent.
         let planes: Vec<(Vec3<f32>, f32)> = (0..1 + rng.below(2))
             .map(|_| {
-                let n = if rng.below(2) == 0 { Vec3::new(0.0, 0.0, 1.0) } else { rng.unit() };
+                // Axis normals (floors, walls) either way, or any.
+                let n = match rng.below(4) {
+                    0 => Vec3::new(0.0, 0.0, 1.0),
+                    1 => Vec3::new(0.0, -1.0, 0.0),
+                    _ => rng.unit(),
+                };
                 (n, -n.dot(rng.vec(-1.0, 1.0)))
             })
             .collect();

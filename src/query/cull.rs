@@ -386,11 +386,31 @@ struct PlaneSide<S> {
     normal: Vec3<S>,
     d: S,
     up: bool,
+    /// The axis of a normal that is `±1` on it and zero elsewhere (floors
+    /// and walls), 3 otherwise; `flip` for `−1`.
+    axis: u8,
+    flip: bool,
 }
 
 impl<S: Scalar> PlaneSide<S> {
     /// An unused entry.
-    const NONE: Self = PlaneSide { k: 0, normal: Vec3::ZERO, d: S::ZERO, up: true };
+    const NONE: Self = PlaneSide { k: 0, normal: Vec3::ZERO, d: S::ZERO, up: true, axis: 3, flip: false };
+
+    /// The plane's signed distance of the points `o` as its kernel computes
+    /// it (`o·n + d`, [`Vec3xW::dot_splat`]); for an axis normal the same
+    /// value from the one component (`x·1 = x`, `x·(−1) = −x` and `0 + x = x`
+    /// exactly, up to the sign of a zero, which no comparison with zero
+    /// sees).
+    #[inline(always)]
+    fn distance<const W: usize>(&self, o: &Vec3xW<S, W>) -> Lanes<S, W> {
+        let c = match self.axis {
+            0 => o.x,
+            1 => o.y,
+            2 => o.z,
+            _ => return o.dot_splat(self.normal) + Lanes::splat(self.d),
+        };
+        (if self.flip { -c } else { c }) + Lanes::splat(self.d)
+    }
 }
 
 /// One primitive as seen from one light: shadow rays whose direction `d`
@@ -707,7 +727,19 @@ impl<S: Scalar> ShadowCull<S> {
                     continue;
                 }
                 let Some(slot) = planes.get_mut(*count as usize) else { break };
-                *slot = PlaneSide { k: k as u8, normal: n, d, up: h > 0.0 };
+                let (one, zero) = (S::ONE, S::ZERO);
+                let unit = |a: S, b: S, c: S| (a == one || a == -one) && b == zero && c == zero;
+                let axis = if unit(n.x, n.y, n.z) {
+                    0
+                } else if unit(n.y, n.z, n.x) {
+                    1
+                } else if unit(n.z, n.x, n.y) {
+                    2
+                } else {
+                    3
+                };
+                let flip = n.x + n.y + n.z < zero;
+                *slot = PlaneSide { k: k as u8, normal: n, d, up: h > 0.0, axis, flip };
                 *count += 1;
             }
         }
@@ -895,9 +927,9 @@ impl<S: Scalar> ShadowCull<S> {
         if let (Some(o), Some(planes), Some(&count)) = (origin, self.planes.get(light), self.plane_count.get(light)) {
             let zero = Lanes::zero();
             for p in planes.iter().take(count as usize) {
-                // The kernel's own signed distance (the same expression, so
-                // the same bits): on the light's side, not on the plane.
-                let dist = o.dot_splat(p.normal) + Lanes::splat(p.d);
+                // The kernel's own signed distance: on the light's side,
+                // not on the plane.
+                let dist = p.distance(o);
                 let clear = if p.up { dist.gt(zero) } else { dist.lt(zero) };
                 if lit.and_not(clear).none() {
                     m &= !(1 << p.k);
