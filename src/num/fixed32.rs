@@ -1384,7 +1384,7 @@ impl Scalar for Fixed32 {
     const NORMALIZE_PRESCALE: bool = true;
     const SPARSE_PRODUCTS: bool = true;
 
-    /// On Armv6-M three partial products ([`square_raw_limbs`]), elsewhere
+    /// On Armv6-M three partial products (`square_raw_limbs`), elsewhere
     /// the product; the same bits.
     #[inline(always)]
     fn square(self) -> Self {
@@ -1398,18 +1398,18 @@ impl Scalar for Fixed32 {
         }
     }
 
-    /// [`mul_raw_small`]: the product without its range tests.
+    /// `mul_raw_small`: the product without its range tests.
     #[inline(always)]
     fn mul_small(self, o: Self) -> Self {
         Fixed32(mul_raw_small(self.0, o.0))
     }
-    /// [`square_raw_small`]: the square without its range test.
+    /// `square_raw_small`: the square without its range test.
     #[inline(always)]
     fn square_small(self) -> Self {
         Fixed32(square_raw_small(self.0))
     }
 
-    /// [`unit_and_length_raw`]: the general code without the range tests
+    /// `unit_and_length_raw`: the general code without the range tests
     /// that cannot fire, for every vector from 2⁻⁷ up.
     #[inline(always)]
     fn unit_and_length(v: [Self; 3]) -> Option<([Self; 3], Self)> {

@@ -1178,8 +1178,8 @@ mod tests {
                 }
             }
             for d in &dirs {
-                let with = cull.candidates_here(li, d, eps, lit, true);
-                let without = cull.candidates_here(li, d, eps, lit, false);
+                let with = cull.candidates_here(li, None, d, eps, lit, true);
+                let without = cull.candidates_here(li, None, d, eps, lit, false);
                 assert_eq!(with, without, "{name}: light {li}, direction {:?}", d.lane(0));
                 culled += (with & low_bits(view.primitives().len())).count_zeros();
             }
