@@ -276,11 +276,10 @@ impl<S: Scalar> Polygon<S> {
             return r;
         }
         // Project the hit points onto the (u, v) plane.
-        // (Only the two projected components of `ray.at(t0)`, each as `at`
-        // forms it: `o + d·t`.)
+        let p = ray.at(r.t0);
         let (iu, iv) = (self.axis_u, self.axis_v);
-        let at = |axis: u8| lanes_axis(&ray.origin, axis) + lanes_axis(&ray.dir, axis) * r.t0;
-        let (pu, pv) = (at(iu), at(iv));
+        let pu = lanes_axis(&p, iu);
+        let pv = lanes_axis(&p, iv);
         let mut a = (last.axis(iu as usize), last.axis(iv as usize));
         if self.convex {
             // Every edge function must have the outline's orientation sign
