@@ -792,9 +792,23 @@ fn div_words_hw32(u1: u32, u0: u32, d: u32) -> (u32, u32) {
 #[inline(always)]
 #[allow(dead_code)]
 fn div_words_reciprocal(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    div_words_by_reciprocal(u1, u0, d, divisor_reciprocal(d))
+}
+
+/// 1/d ≈ W/2⁴⁸ from below, with dh = ⌈d/2¹⁶⌉ (d ≥ 2¹⁶·(dh − 1) + 1), as
+/// [`reciprocal16`] returns it: what [`div_words_by_reciprocal`] needs of
+/// the divisor, which divisions by the same `d` can share.
+#[inline(always)]
+#[allow(dead_code)]
+fn divisor_reciprocal(d: u32) -> u32 {
+    reciprocal16((d >> 16) + 1)
+}
+
+/// [`div_words_reciprocal`] given `wl = divisor_reciprocal(d)`.
+#[inline(always)]
+#[allow(dead_code)]
+fn div_words_by_reciprocal(u1: u32, u0: u32, d: u32, wl: u32) -> (u32, u32) {
     let n = ((u1 as u64) << 32) | u0 as u64;
-    // 1/d ≈ W/2⁴⁸ from below, with dh = ⌈d/2¹⁶⌉ (d ≥ 2¹⁶·(dh − 1) + 1).
-    let wl = reciprocal16((d >> 16) + 1);
     let d16 = (d as u64) << 16;
     // (Every step below is exact by the bounds stated; the wrapping forms
     // only spare overflow checks that LLVM cannot discharge.)
@@ -857,17 +871,30 @@ fn div_words(u1: u32, u0: u32, d: u32) -> (u32, u32) {
 /// gives the exact rounding.
 #[inline(always)]
 fn div_raw_with(a: i32, b: i32, words: impl Fn(u32, u32, u32) -> (u32, u32)) -> i32 {
+    if b == 0 {
+        return div_raw_by_zero(a);
+    }
+    div_raw_normalised(a, b, clz(b.unsigned_abs()), words)
+}
+
+/// The quotient by zero (see [`Fixed32`]'s `Div`).
+#[inline(always)]
+fn div_raw_by_zero(a: i32) -> i32 {
+    if a == 0 {
+        0
+    } else if a > 0 {
+        RAW_MAX
+    } else {
+        RAW_MIN
+    }
+}
+
+/// [`div_raw_with`] for `b ≠ 0`, given `s = clz(|b|)` (which divisions by
+/// the same `b` can share).
+#[inline(always)]
+fn div_raw_normalised(a: i32, b: i32, s: u32, words: impl Fn(u32, u32, u32) -> (u32, u32)) -> i32 {
     let neg = (a ^ b) < 0;
     let sat = if neg { RAW_MIN } else { RAW_MAX };
-    if b == 0 {
-        return if a == 0 {
-            0
-        } else if a > 0 {
-            RAW_MAX
-        } else {
-            RAW_MIN
-        };
-    }
     let (x, y) = (a.unsigned_abs(), b.unsigned_abs());
     // The quotient x·2^FRAC/y is ≥ 2³¹ (saturates) iff x ≥ 2^(31−FRAC)·y,
     // i.e. iff ⌊x/2^(31−FRAC)⌋ ≥ y (y is an integer).
@@ -878,7 +905,6 @@ fn div_raw_with(a: i32, b: i32, words: impl Fn(u32, u32, u32) -> (u32, u32)) -> 
     // satisfies N < 2³¹·d (from x < 2^(31−FRAC)·y), so its high word is
     // below d and ⌊N/d⌋ = ⌊x·2^FRAC/y⌋ < 2³¹. Only 32-bit shifts: a
     // variable 64-bit shift is a library call on Armv6-M.
-    let s = clz(y);
     let d = y.wrapping_shl(s);
     let k = FRAC + s; // ∈ [FRAC, FRAC + 31]
     let (u1, u0) = if k >= 32 { (x.wrapping_shl(k - 32), 0) } else { (x.wrapping_shr(32 - k), x.wrapping_shl(k)) };
@@ -892,6 +918,40 @@ fn div_raw_with(a: i32, b: i32, words: impl Fn(u32, u32, u32) -> (u32, u32)) -> 
         -m
     } else {
         m
+    }
+}
+
+/// `(a₁/b, a₂/b)`, bit for bit two [`div_raw`]s, sharing what depends on
+/// the divisor alone: its leading zeros and, where the two-word division
+/// goes through a reciprocal, that reciprocal (about 50 instructions of
+/// the second division on Armv6-M).
+#[inline(always)]
+fn div2_raw(a1: i32, a2: i32, b: i32) -> (i32, i32) {
+    if b == 0 {
+        return (div_raw_by_zero(a1), div_raw_by_zero(a2));
+    }
+    let s = clz(b.unsigned_abs());
+    #[cfg(all(
+        not(any(target_pointer_width = "64", target_arch = "wasm32")),
+        any(
+            all(target_arch = "arm", not(target_has_atomic = "32")),
+            all(target_arch = "riscv32", not(target_feature = "m"))
+        )
+    ))]
+    {
+        let wl = divisor_reciprocal(b.unsigned_abs().wrapping_shl(s));
+        let words = |u1: u32, u0: u32, d: u32| div_words_by_reciprocal(u1, u0, d, wl);
+        (div_raw_normalised(a1, b, s, words), div_raw_normalised(a2, b, s, words))
+    }
+    #[cfg(not(all(
+        not(any(target_pointer_width = "64", target_arch = "wasm32")),
+        any(
+            all(target_arch = "arm", not(target_has_atomic = "32")),
+            all(target_arch = "riscv32", not(target_feature = "m"))
+        )
+    )))]
+    {
+        (div_raw_normalised(a1, b, s, div_words), div_raw_normalised(a2, b, s, div_words))
     }
 }
 
@@ -1398,6 +1458,13 @@ impl Scalar for Fixed32 {
         }
     }
 
+    /// `div2_raw`: the two quotients share the divisor's normalisation
+    /// and reciprocal. Out of line, like the division.
+    #[inline(never)]
+    fn div_pair(a: Self, b: Self, d: Self) -> (Self, Self) {
+        let (p, q) = div2_raw(a.0, b.0, d.0);
+        (Fixed32(p), Fixed32(q))
+    }
     /// `mul_raw_small`: the product without its range tests.
     #[inline(always)]
     fn mul_small(self, o: Self) -> Self {
@@ -2125,6 +2192,28 @@ mod tests {
             }
         }
         assert!(answered > 200_000, "{answered}");
+    }
+
+    /// Two quotients by one divisor equal two divisions: seeded operands of
+    /// every magnitude and sign, zero divisors and numerators, saturation.
+    #[test]
+    fn div_pair_is_two_divisions() {
+        let mut rng = Rng(0xD1F2);
+        let any = |rng: &mut Rng| {
+            let v = (rng.u32() >> (rng.u32() % 32)) as i32;
+            if rng.u32() & 1 == 0 {
+                v
+            } else {
+                -v
+            }
+        };
+        for i in 0..500_000 {
+            let (a1, a2) = (any(&mut rng), if i % 7 == 0 { 0 } else { any(&mut rng) });
+            let b = if i % 101 == 0 { 0 } else { any(&mut rng) };
+            assert_eq!(div2_raw(a1, a2, b), (div_raw(a1, b), div_raw(a2, b)), "{a1}, {a2} / {b}");
+            let (ra, rb) = (Fixed32(a1), Fixed32(a2));
+            assert_eq!(Fixed32::div_pair(ra, rb, Fixed32(b)), (ra / Fixed32(b), rb / Fixed32(b)));
+        }
     }
 
     /// Products next to every threshold of the two-word rounding: ±64 (where

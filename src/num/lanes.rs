@@ -345,6 +345,22 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
         let zero = d.eq_lanes(Self::zero());
         self / Self::select(zero, Self::splat(S::ONE), d)
     }
+    /// `(self.div_nonzero(d), b.div_nonzero(d))`, bit for bit; in a scalar
+    /// of limited range each lane's two quotients share the divisor's
+    /// preparation ([`Scalar::div_pair`]), elsewhere two packed divisions.
+    #[inline(always)]
+    pub fn div_pair_nonzero(self, b: Self, d: Self) -> (Self, Self) {
+        let zero = d.eq_lanes(Self::zero());
+        let d = Self::select(zero, Self::splat(S::ONE), d);
+        if !S::LIMITED_RANGE {
+            return (self / d, b / d);
+        }
+        let (mut p, mut q) = (self, b);
+        for l in 0..W {
+            (p.0[l], q.0[l]) = S::div_pair(self.0[l], b.0[l], d.0[l]);
+        }
+        (p, q)
+    }
 }
 
 macro_rules! lane_binop {

@@ -115,6 +115,13 @@ pub trait Scalar:
         self * self
     }
 
+    /// `(a / d, b / d)`, bit for bit: two quotients by one divisor, which a
+    /// scalar whose division is a long routine may form sharing the
+    /// divisor's preparation. The default divides twice.
+    #[inline(always)]
+    fn div_pair(a: Self, b: Self, d: Self) -> (Self, Self) {
+        (a / d, b / d)
+    }
     /// `self * o` for factors at most 4 in magnitude (components of unit
     /// vectors the tracer made itself: directions, normals, cosines), bit
     /// for bit the product there; a scalar of limited range

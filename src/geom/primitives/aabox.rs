@@ -154,8 +154,7 @@ fn slab_axis<S: Scalar, const W: usize>(o: Lanes<S, W>, d: Lanes<S, W>, lo: S, h
     {
         let parallel = d.eq_lanes(Lanes::zero());
         // Distances to both slab planes; the division is guarded for parallel lanes.
-        let t1 = (Lanes::splat(lo) - o).div_nonzero(d);
-        let t2 = (Lanes::splat(hi) - o).div_nonzero(d);
+        let (t1, t2) = (Lanes::splat(lo) - o).div_pair_nonzero(Lanes::splat(hi) - o, d);
         let near = t1.min(t2);
         let far = t1.max(t2);
         // Parallel: all of the line inside the slab, or none of it.
