@@ -926,7 +926,10 @@ fn div_raw_normalised(a: i32, b: i32, s: u32, words: impl Fn(u32, u32, u32) -> (
 /// goes through a reciprocal, that reciprocal (about 50 instructions of
 /// the second division on Armv6-M).
 #[inline(always)]
-#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+#[cfg_attr(
+    not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))),
+    allow(dead_code)
+)]
 fn div2_raw(a1: i32, a2: i32, b: i32) -> (i32, i32) {
     if b == 0 {
         return (div_raw_by_zero(a1), div_raw_by_zero(a2));
@@ -1460,11 +1463,12 @@ impl Scalar for Fixed32 {
     }
 
     /// `div2_raw`: the two quotients share the divisor's normalisation
-    /// and reciprocal. Out of line, like the division. Armv6-M only: on
-    /// RV32IMAC (a hardware word division) the shared function made the
-    /// two-scalar test image 2.5 KB larger, past 128 KiB, for 0.2 % fewer
-    /// instructions; elsewhere two divisions.
-    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+    /// and reciprocal. Out of line, like the division. Armv6-M only, and
+    /// not with `compact-mul` (1.3 KB more code there, for the image held
+    /// to 48 KiB); on RV32IMAC (a hardware word division) the shared
+    /// function made the two-scalar test image 2.5 KB larger, past 128 KiB,
+    /// for 0.2 % fewer instructions. Elsewhere two divisions.
+    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul")))]
     #[inline(never)]
     fn div_pair(a: Self, b: Self, d: Self) -> (Self, Self) {
         let (p, q) = div2_raw(a.0, b.0, d.0);
