@@ -326,6 +326,10 @@ impl<S: Scalar, const W: usize> PacketRow<S, W> {
 impl<S: Scalar> Camera<S> {
     /// The row terms of the packets whose top-left pixels lie on row `y`,
     /// clipped to `clip` (see [`PacketRow`]).
+    // Inline on x86 like the rest of the packet code: a dispatched
+    // render's copy is compiled for its instruction set
+    // (scripts/check-asm.sh).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     pub fn packet_row<const W: usize>(&self, y: u32, clip: Rect) -> PacketRow<S, W> {
         let (pw, _) = packet_shape(W);
         let mut vn = [1u32; W];
@@ -338,17 +342,20 @@ impl<S: Scalar> Camera<S> {
             // lanes outside (below 2·65535 + 1: no overflow).
             vn[l] = if inside { 2 * j + 1 } else { 1 };
         }
-        let up_sy = |vn: [u32; W]| {
-            let mut v = Lanes::<S, W>::zero();
-            for l in 0..W {
-                v.0[l] = S::ratio_by(vn[l], &self.height_div);
-            }
-            let sy = (Lanes::splat(S::ONE) - v) * self.sy_scale;
-            // The products `add_splat_scaled` forms (a zero component's is
-            // never added where products of zero are skipped).
-            Vec3::new(Lanes::splat(self.up.x) * sy, Lanes::splat(self.up.y) * sy, Lanes::splat(self.up.z) * sy)
-        };
-        PacketRow { y, clip, rows_inside, up_sy: up_sy(vn), up_sy0: up_sy([1; W]) }
+        PacketRow { y, clip, rows_inside, up_sy: self.up_sy(vn), up_sy0: self.up_sy([1; W]) }
+    }
+
+    /// `up·sy` for the rows `(vn − 1)/2` of each lane.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn up_sy<const W: usize>(&self, vn: [u32; W]) -> Vec3<Lanes<S, W>> {
+        let mut v = Lanes::<S, W>::zero();
+        for l in 0..W {
+            v.0[l] = S::ratio_by(vn[l], &self.height_div);
+        }
+        let sy = (Lanes::splat(S::ONE) - v) * self.sy_scale;
+        // The products `add_splat_scaled` forms (a zero component's is
+        // never added where products of zero are skipped).
+        Vec3::new(Lanes::splat(self.up.x) * sy, Lanes::splat(self.up.y) * sy, Lanes::splat(self.up.z) * sy)
     }
 
     /// The packet of [`Camera::packet`]`(x, row.y(), clip)` (the row's
