@@ -594,6 +594,7 @@ const SMALL: i32 = 1 << 26;
 /// ([`SMALL`]): bit for bit the product, without its range tests, which
 /// cannot fire there. Larger operands give some value (wrapping
 /// arithmetic: no panic), which callers leave in lanes they mask out.
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 #[inline(always)]
 fn mul_raw_small(a: i32, b: i32) -> i32 {
     #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
@@ -621,6 +622,7 @@ fn mul_limbs_small(a: i32, b: i32) -> i32 {
 
 /// `a²` rounded, for `|a|` at most 4 ([`SMALL`]): bit for bit the product,
 /// without its range tests.
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 #[inline(always)]
 fn square_raw_small(a: i32) -> i32 {
     #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
@@ -649,6 +651,7 @@ fn square_raw_small(a: i32) -> i32 {
 /// saturate and is positive, `1/√S ∈ [0.57, 2]`, and every product has
 /// operands below 4 ([`mul_raw_small`]). Only the length's scaling back by
 /// `2^−k` can saturate, and keeps its test.
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 #[inline(always)]
 fn unit_and_length_raw(c: [i32; 3]) -> Option<([i32; 3], i32)> {
     let [x, y, z] = c.map(i32::unsigned_abs);
@@ -1474,19 +1477,27 @@ impl Scalar for Fixed32 {
         let (p, q) = div2_raw(a.0, b.0, d.0);
         (Fixed32(p), Fixed32(q))
     }
-    /// `mul_raw_small`: the product without its range tests.
+    /// `mul_raw_small`: the product without its range tests. (Not on
+    /// WebAssembly, whose module keeps one out-of-line product for size:
+    /// see `Mul`.)
+    #[cfg(not(target_arch = "wasm32"))]
     #[inline(always)]
     fn mul_small(self, o: Self) -> Self {
         Fixed32(mul_raw_small(self.0, o.0))
     }
-    /// `square_raw_small`: the square without its range test.
+    /// `square_raw_small`: the square without its range test (not on
+    /// WebAssembly, as `mul_small`).
+    #[cfg(not(target_arch = "wasm32"))]
     #[inline(always)]
     fn square_small(self) -> Self {
         Fixed32(square_raw_small(self.0))
     }
 
     /// `unit_and_length_raw`: the general code without the range tests
-    /// that cannot fire, for every vector from 2⁻⁷ up.
+    /// that cannot fire, for every vector from 2⁻⁷ up. Not on WebAssembly,
+    /// where its copy at every normalisation took the browser module past
+    /// its 200 KB budget.
+    #[cfg(not(target_arch = "wasm32"))]
     #[inline(always)]
     fn unit_and_length(v: [Self; 3]) -> Option<([Self; 3], Self)> {
         unit_and_length_raw(v.map(|c| c.0)).map(|(n, len)| (n.map(Fixed32), Fixed32(len)))

@@ -312,6 +312,10 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
             Sampling::Centre => {
                 // The terms of the packets' row, kept while the row lasts
                 // (`packets` walks a block's rows, each from left to right).
+                // Not on WebAssembly: the row code took the browser module
+                // (web/) past its 200 KB budget, so it forms each packet
+                // whole.
+                #[cfg(not(target_arch = "wasm32"))]
                 let mut row = self.camera.packet_row::<W>(rect.y, rect);
                 self.packets::<W>(
                     rect,
@@ -322,10 +326,15 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                         inline(always)
                     )]
                     |x, y| {
-                        if row.y() != y {
-                            row = self.camera.packet_row::<W>(y, rect);
-                        }
-                        let (ray, active) = self.camera.packet_in_row(&row, x);
+                        #[cfg(not(target_arch = "wasm32"))]
+                        let (ray, active) = {
+                            if row.y() != y {
+                                row = self.camera.packet_row::<W>(y, rect);
+                            }
+                            self.camera.packet_in_row(&row, x)
+                        };
+                        #[cfg(target_arch = "wasm32")]
+                        let (ray, active) = self.camera.packet::<W>(x, y, rect);
                         (self.shade_packet(&ray, active, cull.at::<W>(x, y), cull.shadow, stats), active)
                     },
                 )
