@@ -938,26 +938,19 @@ fn div2_raw(a1: i32, a2: i32, b: i32) -> (i32, i32) {
         return (div_raw_by_zero(a1), div_raw_by_zero(a2));
     }
     let s = clz(b.unsigned_abs());
-    #[cfg(all(
+    // Where `div_words` is `div_words_reciprocal`, its reciprocal once.
+    let reciprocal = cfg!(all(
         not(any(target_pointer_width = "64", target_arch = "wasm32")),
         any(
             all(target_arch = "arm", not(target_has_atomic = "32")),
             all(target_arch = "riscv32", not(target_feature = "m"))
         )
-    ))]
-    {
+    ));
+    if reciprocal {
         let wl = divisor_reciprocal(b.unsigned_abs().wrapping_shl(s));
         let words = |u1: u32, u0: u32, d: u32| div_words_by_reciprocal(u1, u0, d, wl);
         (div_raw_normalised(a1, b, s, words), div_raw_normalised(a2, b, s, words))
-    }
-    #[cfg(not(all(
-        not(any(target_pointer_width = "64", target_arch = "wasm32")),
-        any(
-            all(target_arch = "arm", not(target_has_atomic = "32")),
-            all(target_arch = "riscv32", not(target_feature = "m"))
-        )
-    )))]
-    {
+    } else {
         (div_raw_normalised(a1, b, s, div_words), div_raw_normalised(a2, b, s, div_words))
     }
 }
