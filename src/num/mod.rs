@@ -5,6 +5,7 @@
 //! the crate.
 
 pub mod bake;
+pub(crate) mod bins;
 pub mod fixed32;
 pub mod fixed64;
 pub mod lanes;

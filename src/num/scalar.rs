@@ -421,8 +421,23 @@ impl Scalar for f32 {
     }
     #[inline(always)]
     fn floor_to_i32(self) -> i32 {
-        // `as` saturates and maps NaN to 0.
-        libm::floorf(self) as i32
+        if cfg!(any(target_arch = "x86", target_arch = "x86_64")) {
+            // With hardware conversions: truncate, and step down where that
+            // rounded up (a negative non-integer). `t as f32` is exact: a
+            // truncated `f32` below 2³¹ is an integer `f32` holds. `as`
+            // saturates (±∞ and beyond ±2³¹ give the ends, NaN 0), which
+            // the step leaves there. The same result as below, every input
+            // (`floor_by_truncation_is_floorf`).
+            let t = self as i32;
+            if t as f32 > self {
+                t.saturating_sub(1)
+            } else {
+                t
+            }
+        } else {
+            // `as` saturates and maps NaN to 0.
+            libm::floorf(self) as i32
+        }
     }
     /// [`Scalar::to_unorm8`] without a call to `floorf`: after the clamp the
     /// value `v·255 + ½` lies in `[½, 255½]`, where truncation equals the
@@ -462,6 +477,35 @@ mod tests {
         while x < 1.0e30 {
             assert_eq!(Scalar::sqrt(x).to_bits(), libm::sqrtf(x).to_bits(), "{x}");
             x *= 1.37;
+        }
+    }
+
+    /// `floor_to_i32` is `floorf` then a saturating conversion: every 7th
+    /// float of magnitude in [2⁻², 8·10⁹] (past both ends of `i32`), every
+    /// 97th bit pattern, and the special values.
+    #[test]
+    fn floor_by_truncation_is_floorf() {
+        let check = |x: f32| assert_eq!(Scalar::floor_to_i32(x), libm::floorf(x) as i32, "{x:e} ({:#x})", x.to_bits());
+        for x in [
+            0.0,
+            -0.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            f32::MAX,
+            f32::MIN,
+            2147483648.0,
+            -2147483648.0,
+            -2147483904.0,
+        ] {
+            check(x);
+        }
+        for bits in (0.25f32.to_bits()..8.0e9f32.to_bits()).step_by(7) {
+            check(f32::from_bits(bits));
+            check(-f32::from_bits(bits));
+        }
+        for bits in (0..u32::MAX).step_by(97) {
+            check(f32::from_bits(bits));
         }
     }
 

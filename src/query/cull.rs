@@ -51,6 +51,7 @@ use crate::geom::camera::Camera;
 use crate::geom::primitives::Shape;
 use crate::geom::ray::RayPacket;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::bins;
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
 use crate::scene::SceneView;
@@ -453,10 +454,9 @@ const DIRECTION_CELLS: usize = 16;
 /// only those entries' boxes and cones (most rays: one or two of the
 /// row's entries).
 ///
-/// A component `v` falls in cell `clamp(⌊(v − origin)·2^shift⌋, 0, N − 1)`.
-/// That is a non-decreasing function of `v` in every scalar (a rounded
-/// subtraction, a rounded product by a power of two, a floor and a clamp
-/// each are), so `lo ≤ v ≤ hi` puts `v`'s cell between those of `lo` and
+/// A component `v` falls in cell `clamp(⌊(v − origin)·2^shift⌋, 0, N − 1)`
+/// ([`bins::bin`]). That is a non-decreasing function of `v` in every
+/// scalar, so `lo ≤ v ≤ hi` puts `v`'s cell between those of `lo` and
 /// `hi`: an entry marked in every cell from its box's `dlo` component's
 /// to its `dhi` component's is marked in the cell of every direction its
 /// box holds. The bounds and the directions are placed by the same
@@ -492,17 +492,10 @@ impl<S: Scalar> DirectionCells<S> {
         // The largest power of two (within 2⁻⁴ … 2¹⁶) that brings the
         // window's width to at most N cells.
         let width = (hi - lo).max(1.0 / 65536.0);
-        let n = DIRECTION_CELLS as f32;
-        let mut shift = 0;
-        while shift < 16 && width * libm::ldexpf(1.0, shift + 1) <= n {
-            shift += 1;
-        }
-        while shift > -4 && width * libm::ldexpf(1.0, shift) > n {
-            shift -= 1;
-        }
+        let shift = bins::fit_shift::<-4, 16>(width, DIRECTION_CELLS);
         c.origin = S::from_f32(lo);
         c.shift = shift;
-        c.scale = S::from_f32(libm::ldexpf(1.0, shift));
+        c.scale = bins::scale_of(shift);
         for (e, o) in row.iter().enumerate() {
             let (first, last) = (c.cell(o.dlo.axis(axis)), c.cell(o.dhi.axis(axis)));
             for cell in c.cells.iter_mut().take(last + 1).skip(first) {
@@ -515,10 +508,7 @@ impl<S: Scalar> DirectionCells<S> {
     /// The cell of the component `v` (see [`DirectionCells`]).
     #[inline(always)]
     fn cell(&self, v: S) -> usize {
-        let x = v - self.origin;
-        // (A shift in fixed point, where a product is a routine.)
-        let x = if S::SPARSE_PRODUCTS { x.mul_pow2(self.shift) } else { x * self.scale };
-        x.floor_to_i32().clamp(0, DIRECTION_CELLS as i32 - 1) as usize
+        bins::bin(v, self.origin, self.shift, self.scale, DIRECTION_CELLS)
     }
 
     /// The entries whose direction box may hold a direction with component `v`.

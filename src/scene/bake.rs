@@ -166,7 +166,23 @@ mod tests {
         use crate::geom::primitives::Polygon;
         use crate::scene::SceneView;
         let n = Vec3::new(0.0f32, 0.0, 1.0);
-        let poly = Polygon::from_baked(u32::MAX - 1, u32::MAX, true, true, false, 0, 1, true, n, 0.0, n);
+        let poly = Polygon::from_baked(
+            u32::MAX - 1,
+            u32::MAX,
+            true,
+            true,
+            false,
+            0,
+            1,
+            true,
+            n,
+            0.0,
+            n,
+            0.0,
+            1.0,
+            255,
+            [[7, 3]; crate::geom::primitives::polygon::EDGE_BLOCKS],
+        );
         let prims = [Primitive { shape: Shape::Polygon(poly), material: 0 }];
         let mats = [Material::diffuse(Vec3::new(1.0f32, 1.0, 1.0))];
         let verts = [n; 4];

@@ -650,9 +650,9 @@ impl<S: Scalar, St: Storage<S>> SceneStore<S, St> {
         }
         for p in src.primitives() {
             let shape = match p.shape.similar::<S>(sim) {
-                Shape::Polygon(pg) => {
-                    Shape::Polygon(pg.at_first(pg.first_vertex().saturating_add(first_vertex as u32)))
-                }
+                Shape::Polygon(pg) => Shape::Polygon(
+                    pg.at_first(pg.first_vertex().saturating_add(first_vertex as u32)).with_edge_blocks(&self.verts),
+                ),
                 other => other,
             };
             let material = u16::try_from(p.material as usize + first_material)

@@ -6,7 +6,10 @@
 //! triangles and robust for slightly non-planar input. The inside test runs
 //! in the projection that drops the normal's dominant axis:
 //! - convex polygons: every edge function has the polygon's orientation sign;
-//! - non-convex polygons: crossing number (even-odd rule), division-free.
+//! - non-convex polygons: crossing number (even-odd rule), division-free;
+//!   an outline of many edges keeps, per block of consecutive edges, the
+//!   bins of its lowest and highest `v`, so a packet passes over the blocks
+//!   no line of its points meets (see [`EDGE_BLOCKS`]).
 //!
 //! A polygon whose area is zero (collinear or repeated vertices, which real
 //! meshes contain) is kept, so primitive indices stay stable, but never hit.
@@ -16,8 +19,52 @@ use super::plane::{moved_offset, plane_crossing};
 use crate::geom::ray::{RayPacket, Roots};
 use crate::geom::uniform_scale::Similarity;
 use crate::geom::vec3::{Vec3, Vec3xW};
+use crate::num::bins;
 use crate::num::lanes::{Lanes, Mask};
 use crate::num::scalar::Scalar;
+
+/// Blocks of consecutive edges of a many-sided non-convex outline (at least
+/// [`BLOCKED_EDGES`] edges): each keeps the bins (one of 256 over the
+/// outline's `v` range, a non-decreasing function of `v`) of its edges'
+/// lowest and highest `v`. An edge
+/// straddles a line `v = pv` only if `lo ≤ pv < hi` for its end points'
+/// `v` in order, so a block whose bins `[b_lo, b_hi]` lie wholly below the
+/// bin of the packet's smallest `pv` or above that of its largest holds no
+/// edge that changes a count, and is passed over: the bin is
+/// non-decreasing, so no margin is needed and the counts, hence the bits,
+/// are those of testing every edge. A gear face of `gears-2` has 144
+/// edges; most packets' lines meet a few of its 12 blocks. (Twelve blocks
+/// keep a polygon within the size of the largest primitive, so a
+/// [`crate::geom::primitives::Shape`] is no larger for them.)
+pub const EDGE_BLOCKS: usize = 12;
+
+/// Fewest edges for [`EDGE_BLOCKS`] (two per block); smaller outlines test
+/// every edge.
+pub const BLOCKED_EDGES: u32 = 2 * EDGE_BLOCKS as u32;
+
+/// The lanes whose line `v = pv` the edge `a → b` (in `(u, v)`) straddles
+/// and crosses to the right of the point `(pu, pv)`: without division, the
+/// crossing is right of the point when the edge function has the sign of
+/// `b.v − a.v`.
+#[inline(always)]
+fn crossing<S: Scalar, const W: usize>(pu: Lanes<S, W>, pv: Lanes<S, W>, a: (S, S), b: (S, S)) -> Mask<W> {
+    let straddle = pv.lt(Lanes::splat(a.1)) ^ pv.lt(Lanes::splat(b.1));
+    let e = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
+    let right = if b.1 > a.1 { e.gt(Lanes::zero()) } else { e.lt(Lanes::zero()) };
+    straddle & right
+}
+
+/// Whether polygons keep edge blocks and the kernel passes over them: on
+/// 64-bit hosts. Not on WebAssembly, where the browser module's size
+/// budget (`scripts/web.sh`) did not leave room for the 6.6 KB they added,
+/// nor on 32-bit microcontrollers, whose images they made 0.6–12.8 KB
+/// larger (RV32IMAC's past 128 KiB) and whose demo frame (no outline of
+/// many edges) up to 2.2 % longer. There polygons keep no blocks and test
+/// every edge, in the loop the boards were measured with.
+const BLOCKS_HERE: bool = cfg!(target_pointer_width = "64");
+
+/// Bins of the edge blocks' `v` bounds.
+const V_BINS: usize = 256;
 
 /// A planar polygon (or patch) whose vertices are in a vertex pool.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,9 +85,18 @@ pub struct Polygon<S> {
     /// tracer normalises every geometric normal ([`Vec3::hit_normal`]),
     /// worked out once here rather than at every hit.
     hit_normal: Vec3<S>,
+    /// The window of the edge blocks' bins ([`bins::bin`]): its origin,
+    /// `2^shift` as a factor, and `shift + 128` (unused below
+    /// [`BLOCKED_EDGES`] edges and for convex outlines).
+    v_origin: S,
+    v_scale: S,
+    v_shift: u8,
+    /// Per block of [`EDGE_BLOCKS`], the bins of its edges' lowest and
+    /// highest `v`.
+    blocks: [[u8; 2]; EDGE_BLOCKS],
 }
 
-crate::num::bake::bake_struct!("raypack::geom::primitives::Polygon", Polygon<S> { first: u32, count: u32, patch: bool, convex: bool, degenerate: bool, axis_u: u8, axis_v: u8, ccw: bool, normal: Vec3<S>, d: S, hit_normal: Vec3<S> });
+crate::num::bake::bake_struct!("raypack::geom::primitives::Polygon", Polygon<S> { first: u32, count: u32, patch: bool, convex: bool, degenerate: bool, axis_u: u8, axis_v: u8, ccw: bool, normal: Vec3<S>, d: S, hit_normal: Vec3<S>, v_origin: S, v_scale: S, v_shift: u8, blocks: [[u8; 2]; EDGE_BLOCKS] });
 
 /// The component `axis` of every lane.
 #[inline(always)]
@@ -67,7 +123,9 @@ const fn project_two<const W: usize>() -> bool {
 impl<S: Scalar> Polygon<S> {
     /// The same polygon in the frame of `sim`, with scalar `T`, over a pool
     /// converted in the same order (positions by `sim`, normals unchanged).
-    /// Its shape flags are the original's (a similarity keeps them).
+    /// Its shape flags are the original's (a similarity keeps them). Its
+    /// edge blocks are empty until [`Polygon::with_edge_blocks`] works them
+    /// out over the converted pool; until then every edge is tested.
     pub fn similar<T: Scalar>(&self, sim: &Similarity) -> Polygon<T> {
         let normal = sim.direction(self.normal);
         Polygon {
@@ -82,7 +140,63 @@ impl<S: Scalar> Polygon<S> {
             normal,
             d: T::from_f32(moved_offset(self.normal, self.d, sim)),
             hit_normal: normal.hit_normal(),
+            v_origin: T::ZERO,
+            v_scale: T::ZERO,
+            v_shift: 0,
+            blocks: [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS],
         }
+    }
+
+    /// The polygon with its edge blocks worked out over `pool` (the pool it
+    /// is built against): see [`EDGE_BLOCKS`]. Convex outlines, outlines of
+    /// fewer than [`BLOCKED_EDGES`] edges, and every polygon on targets
+    /// whose kernel passes over no blocks (32-bit ones: WebAssembly and
+    /// microcontrollers) are returned as they are.
+    pub fn with_edge_blocks(mut self, pool: &[Vec3<S>]) -> Self {
+        let verts = self.vertices(pool);
+        let n = verts.len();
+        if !BLOCKS_HERE || self.convex || self.degenerate || self.count < BLOCKED_EDGES || n != self.count as usize {
+            return self;
+        }
+        let iv = self.axis_v as usize;
+        let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+        for v in verts {
+            lo = lo.min(v.axis(iv).to_f32());
+            hi = hi.max(v.axis(iv).to_f32());
+        }
+        // The largest power of two that spreads the outline's `v` range
+        // over at most 256 bins.
+        let shift = bins::fit_shift::<-120, 100>((hi - lo).max(1.0e-30), V_BINS);
+        self.v_origin = S::from_f32(lo);
+        self.v_shift = (shift + 128) as u8;
+        self.v_scale = bins::scale_of(shift);
+        let size = n.div_ceil(EDGE_BLOCKS);
+        let mut blocks = self.blocks;
+        for (j, block) in blocks.iter_mut().enumerate() {
+            // Edge `i` runs from vertex `i − 1` (the last, for edge 0) to
+            // vertex `i`: block `j`'s edges `[j·size, (j + 1)·size)` touch
+            // vertices `j·size − 1 … (j + 1)·size − 1`.
+            let (start, end) = ((j * size).min(n), ((j + 1) * size).min(n));
+            *block = if start == end {
+                [(V_BINS - 1) as u8, 0]
+            } else {
+                let prev = if start == 0 { n - 1 } else { start - 1 };
+                let mut b = [u8::MAX, 0];
+                for k in core::iter::once(prev).chain(start..end) {
+                    let bin = verts.get(k).map_or(0, |v| self.v_bin(v.axis(iv))) as u8;
+                    b = [b[0].min(bin), b[1].max(bin)];
+                }
+                b
+            };
+        }
+        self.blocks = blocks;
+        self
+    }
+
+    /// The bin of `v` among the edge blocks' (see [`EDGE_BLOCKS`]).
+    #[inline(always)]
+    fn v_bin(&self, v: S) -> usize {
+        bins::bin(v, self.v_origin, self.v_shift as i32 - 128, self.v_scale, V_BINS)
     }
 
     /// The same polygon over pool slots starting at `first` (a pool copied
@@ -163,9 +277,13 @@ impl<S: Scalar> Polygon<S> {
             normal,
             d: -normal.dot(o),
             hit_normal: normal.hit_normal(),
+            v_origin: S::ZERO,
+            v_scale: S::ZERO,
+            v_shift: 0,
+            blocks: [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS],
         };
         poly.convex = !degenerate && poly.is_convex_outline(verts);
-        Ok(poly)
+        Ok(poly.with_edge_blocks(pool))
     }
 
     /// Convexity of the projected outline: every turn has the same sign and
@@ -315,9 +433,8 @@ impl<S: Scalar> Polygon<S> {
             r.hit0 = inside;
         } else {
             // Crossing number of a ray from the point in +u: count edges that
-            // straddle the line v = pv and cross it to the right of the point.
-            // Without division: the crossing is right of the point when the
-            // edge function has the sign of (b.v − a.v).
+            // straddle the line v = pv and cross it to the right of the point
+            // ([`crossing`]).
             //
             // An edge straddles a line when `lo ≤ pv < hi` (its end points'
             // v in order). An edge outside the packet's span of lines
@@ -326,12 +443,15 @@ impl<S: Scalar> Polygon<S> {
             // many-sided outline (a gear's 144) lie wholly above or below a
             // packet's points. (A lane whose v is NaN straddles nothing; the
             // comparisons below never take a NaN into the span.) Packets of
-            // 8 and 16 lanes work out every edge, branch-free: there the
-            // span and a branch per edge cost more than the skipped edges
-            // (x86 with AVX-512, `raypack bench` on gears-2).
+            // 8 and 16 lanes work out every edge of a block they do not pass
+            // over, branch-free: there the span and a branch per edge cost
+            // more than the skipped edges (x86 with AVX-512, `raypack bench`
+            // on gears-2).
+            let n = verts.len();
+            let blocked = BLOCKS_HERE && self.count >= BLOCKED_EDGES;
             let skip = W < 8;
             let (mut v_lo, mut v_hi) = (S::MAX, -S::MAX);
-            if skip {
+            if skip || blocked {
                 for (i, &v) in pv.0.iter().enumerate() {
                     if r.hit0.get(i) {
                         if v < v_lo {
@@ -344,18 +464,52 @@ impl<S: Scalar> Polygon<S> {
                 }
             }
             let mut odd = Mask::splat(false);
-            for v in verts {
-                let b = (v.axis(iu as usize), v.axis(iv as usize));
+            // Whether the edge `a → b` lies wholly above or below the span.
+            let outside = |a: (S, S), b: (S, S)| {
                 let (lo, hi) = if a.1 < b.1 { (a.1, b.1) } else { (b.1, a.1) };
-                if skip && (v_hi < lo || v_lo >= hi) {
-                    a = b;
-                    continue;
+                v_hi < lo || v_lo >= hi
+            };
+            if BLOCKS_HERE {
+                // Only the blocks whose bins meet those of the span (see
+                // `EDGE_BLOCKS`); a smaller outline is one block of every
+                // edge, never passed over.
+                let (size, blocks, b_lo, b_hi) = if blocked {
+                    (n.div_ceil(EDGE_BLOCKS), &self.blocks[..], self.v_bin(v_lo), self.v_bin(v_hi))
+                } else {
+                    (n, &[[0, (V_BINS - 1) as u8]][..], 0, V_BINS - 1)
+                };
+                for (j, &[lo, hi]) in blocks.iter().enumerate() {
+                    if b_hi < lo as usize || b_lo > hi as usize {
+                        continue;
+                    }
+                    let start = j * size;
+                    let Some(first) = (if start == 0 { Some(&last) } else { verts.get(start - 1) }) else { break };
+                    let mut a = (first.axis(iu as usize), first.axis(iv as usize));
+                    for v in verts.iter().take((start + size).min(n)).skip(start) {
+                        let b = (v.axis(iu as usize), v.axis(iv as usize));
+                        if !(skip && outside(a, b)) {
+                            odd ^= crossing(pu, pv, a, b);
+                        }
+                        a = b;
+                    }
                 }
-                let straddle = pv.lt(Lanes::splat(a.1)) ^ pv.lt(Lanes::splat(b.1));
-                let e = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
-                let right = if b.1 > a.1 { e.gt(Lanes::zero()) } else { e.lt(Lanes::zero()) };
-                odd ^= straddle & right;
-                a = b;
+            } else {
+                // Every edge, with the span's test and `crossing` written out:
+                // through the two helpers the Cortex-M4F's `f32` frame took
+                // 0.36 % more instructions.
+                for v in verts {
+                    let b = (v.axis(iu as usize), v.axis(iv as usize));
+                    let (lo, hi) = if a.1 < b.1 { (a.1, b.1) } else { (b.1, a.1) };
+                    if skip && (v_hi < lo || v_lo >= hi) {
+                        a = b;
+                        continue;
+                    }
+                    let straddle = pv.lt(Lanes::splat(a.1)) ^ pv.lt(Lanes::splat(b.1));
+                    let e = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
+                    let right = if b.1 > a.1 { e.gt(Lanes::zero()) } else { e.lt(Lanes::zero()) };
+                    odd ^= straddle & right;
+                    a = b;
+                }
             }
             r.hit0 &= odd;
         }
@@ -482,6 +636,7 @@ mod tests {
     use super::*;
     use crate::geom::primitives::test_util::*;
     use crate::geom::primitives::Shape;
+    use crate::num::fixed32::Fixed32;
 
     fn v(x: f32, y: f32, z: f32) -> Vec3<f32> {
         Vec3::new(x, y, z)
@@ -680,5 +835,136 @@ mod tests {
         let p = Polygon::from_pool(&pool, 0, 4, true).unwrap();
         let n = p.shading_normal(&pool, v(0.0, 0.0, 0.0)).normalize_or_zero();
         assert!((n - z).length() < 1e-6, "{n:?}");
+    }
+
+    /// A gear outline of `n` vertices (teeth of two vertices at radius 1,
+    /// gaps at 0.8) in the plane `z = 0`, turned by `turn`, in the pool.
+    fn gear<S: Scalar>(n: usize, turn: f32) -> Vec<Vec3<S>> {
+        (0..n)
+            .map(|i| {
+                let a = turn + core::f32::consts::TAU * i as f32 / n as f32;
+                let r = if (i / 2) % 2 == 0 { 1.0 } else { 0.8 };
+                Vec3::from_f32(r * libm::cosf(a), r * libm::sinf(a), 0.0)
+            })
+            .collect()
+    }
+
+    /// The crossings of packets of `W` rays straight down at the points
+    /// `(x, y)` of `lanes`: `t` bits and hit flags per lane.
+    fn packet_hits<S: Scalar, const W: usize>(
+        p: &Polygon<S>,
+        pool: &[Vec3<S>],
+        lanes: &[(f32, f32)],
+    ) -> Vec<(bool, u32)> {
+        let mut out = Vec::new();
+        for chunk in lanes.chunks(W) {
+            let mut org = Vec3::<S>::ZERO.splat::<W>();
+            let mut dir = org;
+            for (i, &(x, y)) in chunk.iter().enumerate() {
+                org.set_lane(i, Vec3::from_f32(x, y, 2.0));
+                dir.set_lane(i, Vec3::from_f32(0.0, 0.0, -1.0));
+            }
+            let (ray, ok) = RayPacket::new(org, dir);
+            let mut active = ok;
+            for i in chunk.len()..W {
+                active.set(i, false);
+            }
+            let r = p.roots(pool, &ray, Lanes::splat(S::ZERO), Lanes::splat(S::MAX), active);
+            for i in 0..chunk.len() {
+                out.push((r.hit0.get(i), r.t0.0[i].to_f32().to_bits()));
+            }
+        }
+        out
+    }
+
+    /// Many-sided outlines pass over edge blocks (`EDGE_BLOCKS`) and give
+    /// every lane the crossings of testing every edge: at widths 1, 4, 8
+    /// and 16, in `f32` and `Fixed32`, for coherent packets (seeded
+    /// clusters) and for points on the lines through the vertices, where a
+    /// block's bounds are met exactly. Widening a block's bins by one
+    /// changes nothing; shrinking one is caught.
+    #[test]
+    fn edge_blocks_give_the_crossings_of_every_edge() {
+        fn check<S: Scalar>(n: usize, turn: f32, seed: u64) {
+            if !BLOCKS_HERE {
+                return;
+            }
+            let pool = gear::<S>(n, turn);
+            let p = Polygon::from_pool(&pool, 0, n as u32, false).unwrap();
+            assert!(!p.is_convex());
+            let every = Polygon { blocks: [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS], ..p };
+            // Some block must be narrower than the whole outline, or the
+            // test tests nothing.
+            assert!(p.blocks.iter().any(|&[lo, hi]| hi - lo < 128), "{:?}", p.blocks);
+            let mut state = seed;
+            let mut rnd = || (crate::num::test_rng::splitmix64(&mut state) >> 40) as f32 / (1u64 << 24) as f32;
+            let mut lanes = Vec::new();
+            for _ in 0..400 {
+                let (cx, cy) = (2.2 * rnd() - 1.1, 2.2 * rnd() - 1.1);
+                let spread = [0.002, 0.02, 0.2][(rnd() * 3.0) as usize % 3];
+                for _ in 0..16 {
+                    lanes.push((cx + spread * (rnd() - 0.5), cy + spread * (rnd() - 0.5)));
+                }
+            }
+            for v in &pool {
+                let [x, y, _] = v.to_f32();
+                for dx in [-0.3, -0.01, 0.0, 0.01, 0.3] {
+                    lanes.push((x + dx, y));
+                }
+            }
+            let reference = packet_hits::<S, 1>(&every, &pool, &lanes);
+            assert!(reference.iter().filter(|h| h.0).count() > lanes.len() / 4);
+            assert_eq!(packet_hits::<S, 1>(&p, &pool, &lanes), reference, "width 1");
+            assert_eq!(packet_hits::<S, 4>(&p, &pool, &lanes), reference, "width 4");
+            assert_eq!(packet_hits::<S, 8>(&p, &pool, &lanes), reference, "width 8");
+            assert_eq!(packet_hits::<S, 16>(&p, &pool, &lanes), reference, "width 16");
+            // Bins one wider on each side still hold every crossing.
+            let mut wide = p;
+            for b in wide.blocks.iter_mut() {
+                *b = [b[0].saturating_sub(1), b[1].saturating_add(1)];
+            }
+            assert_eq!(packet_hits::<S, 8>(&wide, &pool, &lanes), reference, "wider blocks");
+            // One bin narrower at the top of every block loses crossings.
+            let mut narrow = p;
+            for b in narrow.blocks.iter_mut() {
+                b[1] = b[1].saturating_sub(1).max(b[0]);
+            }
+            assert_ne!(packet_hits::<S, 8>(&narrow, &pool, &lanes), reference, "narrower blocks");
+        }
+        check::<f32>(144, 0.0, 1);
+        check::<f32>(100, 0.3, 2);
+        check::<f32>(BLOCKED_EDGES as usize, 0.1, 3);
+        check::<Fixed32>(144, 0.0, 4);
+        check::<Fixed32>(61, 0.7, 5);
+    }
+
+    /// Outlines below `BLOCKED_EDGES` edges and convex ones keep no blocks;
+    /// a polygon converted to another scalar gets its blocks over the
+    /// converted pool (`SceneStore::add_similar`).
+    #[test]
+    fn edge_blocks_only_where_they_serve() {
+        if !BLOCKS_HERE {
+            return;
+        }
+        let few = gear::<f32>(BLOCKED_EDGES as usize - 2, 0.0);
+        let p = Polygon::from_pool(&few, 0, few.len() as u32, false).unwrap();
+        assert_eq!(p.blocks, [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS]);
+        let round: Vec<Vec3<f32>> = (0..64)
+            .map(|i| {
+                let a = core::f32::consts::TAU * i as f32 / 64.0;
+                v(libm::cosf(a), libm::sinf(a), 0.0)
+            })
+            .collect();
+        let p = Polygon::from_pool(&round, 0, 64, false).unwrap();
+        assert!(p.is_convex());
+        assert_eq!(p.blocks, [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS]);
+        let many = gear::<f32>(144, 0.0);
+        let p = Polygon::from_pool(&many, 0, 144, false).unwrap();
+        let f: Polygon<Fixed32> = p.similar(&Similarity::IDENTITY);
+        assert_eq!(f.blocks, [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS]);
+        let fpool: Vec<Vec3<Fixed32>> = many.iter().map(|v| Vec3::from_f32(v.x, v.y, v.z)).collect();
+        let built = Polygon::from_pool(&fpool, 0, 144, false).unwrap();
+        assert_ne!(built.blocks, f.blocks);
+        assert_eq!(f.with_edge_blocks(&fpool).blocks, built.blocks);
     }
 }

@@ -1,0 +1,85 @@
+//! Bins over a window of values: `clamp(⌊(v − origin)·2^shift⌋, 0, n − 1)`.
+//!
+//! The bin is a non-decreasing function of `v` in every scalar: a rounded
+//! (or saturating) subtraction, a rounded product by a power of two, a
+//! floor and a clamp each are. So `lo ≤ v ≤ hi` puts `v`'s bin between
+//! those of `lo` and `hi`, and a list of things kept per bin, built from
+//! the bins of their bounds with this same function, needs no margin to be
+//! exact. The window (`origin`, `shift`) only decides how well the bins
+//! separate what they list. Used by the shadow rays' direction cells
+//! (`query::cull`) and the edge blocks of many-sided polygons.
+
+use crate::num::scalar::Scalar;
+
+/// The largest `shift` in `[MIN, MAX]` that brings a window `width` wide
+/// to at most `n` bins (`width·2^shift ≤ n`), or `MIN`.
+#[inline(always)]
+pub(crate) fn fit_shift<const MIN: i32, const MAX: i32>(width: f32, n: usize) -> i32 {
+    let n = n as f32;
+    let mut shift = if MAX < 0 {
+        MAX
+    } else if MIN > 0 {
+        MIN
+    } else {
+        0
+    };
+    while shift < MAX && width * libm::ldexpf(1.0, shift + 1) <= n {
+        shift += 1;
+    }
+    while shift > MIN && width * libm::ldexpf(1.0, shift) > n {
+        shift -= 1;
+    }
+    shift
+}
+
+/// `2^shift` in `S`: the factor of [`bin`] for scalars whose product by a
+/// power of two is not a shift.
+pub(crate) fn scale_of<S: Scalar>(shift: i32) -> S {
+    S::from_f32(libm::ldexpf(1.0, shift))
+}
+
+/// The bin of `v` among `n`: `clamp(⌊(v − origin)·2^shift⌋, 0, n − 1)`
+/// (`scale` is [`scale_of`]`(shift)`; fixed point shifts instead).
+#[inline(always)]
+pub(crate) fn bin<S: Scalar>(v: S, origin: S, shift: i32, scale: S, n: usize) -> usize {
+    let x = v - origin;
+    // (A shift in fixed point, where a product is a routine.)
+    let x = if S::SPARSE_PRODUCTS { x.mul_pow2(shift) } else { x * scale };
+    x.floor_to_i32().clamp(0, n as i32 - 1) as usize
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::num::fixed32::Fixed32;
+
+    #[test]
+    fn fit_shift_is_the_largest_that_fits() {
+        assert_eq!(fit_shift::<-4, 16>(1.0, 16), 4);
+        assert_eq!(fit_shift::<-4, 16>(1.5, 16), 3);
+        assert_eq!(fit_shift::<-120, 24>(100.0, 256), 1);
+        assert_eq!(fit_shift::<-120, 24>(1.0e-9, 256), 24);
+        assert_eq!(fit_shift::<-4, 16>(1.0e9, 16), -4);
+    }
+
+    fn monotone<S: Scalar>(origin: f32, shift: i32) {
+        let (o, s) = (S::from_f32(origin), scale_of::<S>(shift));
+        let mut prev = 0;
+        let mut x = origin - 120.0;
+        while x < origin + 120.0 {
+            let b = bin(S::from_f32(x), o, shift, s, 256);
+            assert!(b >= prev && b < 256, "{x}: {b} after {prev}");
+            prev = b;
+            x += 0.0137;
+        }
+        assert!(prev >= 50, "{prev}");
+    }
+
+    #[test]
+    fn bins_never_decrease() {
+        monotone::<f32>(-3.25, 5);
+        monotone::<f32>(7.0, -1);
+        monotone::<Fixed32>(-3.25, 5);
+        monotone::<Fixed32>(7.0, -1);
+    }
+}
