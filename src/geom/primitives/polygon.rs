@@ -66,6 +66,12 @@ const BLOCKS_HERE: bool = cfg!(target_pointer_width = "64");
 /// Bins of the edge blocks' `v` bounds.
 const V_BINS: usize = 256;
 
+/// A block spanning every bin: never passed over.
+const EVERY_BIN: [u8; 2] = [0, (V_BINS - 1) as u8];
+
+/// Edge blocks that pass over nothing (a polygon without blocks).
+const NO_BLOCKS: [[u8; 2]; EDGE_BLOCKS] = [EVERY_BIN; EDGE_BLOCKS];
+
 /// A planar polygon (or patch) whose vertices are in a vertex pool.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Polygon<S> {
@@ -143,7 +149,7 @@ impl<S: Scalar> Polygon<S> {
             v_origin: T::ZERO,
             v_scale: T::ZERO,
             v_shift: 0,
-            blocks: [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS],
+            blocks: NO_BLOCKS,
         }
     }
 
@@ -280,7 +286,7 @@ impl<S: Scalar> Polygon<S> {
             v_origin: S::ZERO,
             v_scale: S::ZERO,
             v_shift: 0,
-            blocks: [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS],
+            blocks: NO_BLOCKS,
         };
         poly.convex = !degenerate && poly.is_convex_outline(verts);
         Ok(poly.with_edge_blocks(pool))
@@ -476,7 +482,7 @@ impl<S: Scalar> Polygon<S> {
                 let (size, blocks, b_lo, b_hi) = if blocked {
                     (n.div_ceil(EDGE_BLOCKS), &self.blocks[..], self.v_bin(v_lo), self.v_bin(v_hi))
                 } else {
-                    (n, &[[0, (V_BINS - 1) as u8]][..], 0, V_BINS - 1)
+                    (n, &[EVERY_BIN][..], 0, V_BINS - 1)
                 };
                 for (j, &[lo, hi]) in blocks.iter().enumerate() {
                     if b_hi < lo as usize || b_lo > hi as usize {
@@ -892,7 +898,7 @@ mod tests {
             let pool = gear::<S>(n, turn);
             let p = Polygon::from_pool(&pool, 0, n as u32, false).unwrap();
             assert!(!p.is_convex());
-            let every = Polygon { blocks: [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS], ..p };
+            let every = Polygon { blocks: NO_BLOCKS, ..p };
             // Some block must be narrower than the whole outline, or the
             // test tests nothing.
             assert!(p.blocks.iter().any(|&[lo, hi]| hi - lo < 128), "{:?}", p.blocks);
@@ -948,7 +954,7 @@ mod tests {
         }
         let few = gear::<f32>(BLOCKED_EDGES as usize - 2, 0.0);
         let p = Polygon::from_pool(&few, 0, few.len() as u32, false).unwrap();
-        assert_eq!(p.blocks, [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS]);
+        assert_eq!(p.blocks, NO_BLOCKS);
         let round: Vec<Vec3<f32>> = (0..64)
             .map(|i| {
                 let a = core::f32::consts::TAU * i as f32 / 64.0;
@@ -957,11 +963,11 @@ mod tests {
             .collect();
         let p = Polygon::from_pool(&round, 0, 64, false).unwrap();
         assert!(p.is_convex());
-        assert_eq!(p.blocks, [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS]);
+        assert_eq!(p.blocks, NO_BLOCKS);
         let many = gear::<f32>(144, 0.0);
         let p = Polygon::from_pool(&many, 0, 144, false).unwrap();
         let f: Polygon<Fixed32> = p.similar(&Similarity::IDENTITY);
-        assert_eq!(f.blocks, [[0, (V_BINS - 1) as u8]; EDGE_BLOCKS]);
+        assert_eq!(f.blocks, NO_BLOCKS);
         let fpool: Vec<Vec3<Fixed32>> = many.iter().map(|v| Vec3::from_f32(v.x, v.y, v.z)).collect();
         let built = Polygon::from_pool(&fpool, 0, 144, false).unwrap();
         assert_ne!(built.blocks, f.blocks);
