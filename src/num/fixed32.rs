@@ -330,7 +330,7 @@ const CLZ_TABLE: [u8; 32] = {
 /// `k = 32 − clz`), and a multiplication turns that into a table index.
 /// About 15 instructions and no branch.
 #[inline(always)]
-#[cfg_attr(any(target_pointer_width = "64", target_arch = "wasm32"), allow(dead_code))]
+#[cfg_attr(wide_mul, allow(dead_code))]
 fn clz_soft(x: u32) -> u32 {
     let mut v = x;
     v |= v >> 1;
@@ -348,11 +348,11 @@ fn clz_soft(x: u32) -> u32 {
 /// binary search elsewhere (same result, tested).
 #[inline(always)]
 fn clz(x: u32) -> u32 {
-    #[cfg(any(target_pointer_width = "64", target_arch = "wasm32"))]
+    #[cfg(wide_mul)]
     {
         x.leading_zeros()
     }
-    #[cfg(not(any(target_pointer_width = "64", target_arch = "wasm32")))]
+    #[cfg(not(wide_mul))]
     {
         clz_soft(x)
     }
@@ -368,7 +368,7 @@ fn clz(x: u32) -> u32 {
 
 /// Unsigned 32×32→64 product, native (`u64` multiply).
 #[inline(always)]
-#[cfg_attr(all(target_arch = "arm", not(target_has_atomic = "32")), allow(dead_code))]
+#[cfg_attr(armv6m, allow(dead_code))]
 fn wmul_native(a: u32, b: u32) -> u64 {
     a as u64 * b as u64
 }
@@ -377,7 +377,7 @@ fn wmul_native(a: u32, b: u32) -> u64 {
 /// 16-bit limbs), for cores without a long multiply. The two cross products
 /// may sum past 2³²; that carry has weight 2⁴⁸.
 #[inline(always)]
-#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+#[cfg_attr(not(armv6m), allow(dead_code))]
 fn wmul_limbs(a: u32, b: u32) -> u64 {
     let (al, ah, bl, bh) = (a & 0xFFFF, a >> 16, b & 0xFFFF, b >> 16);
     let (mid, c_mid) = (al * bh).overflowing_add(ah * bl);
@@ -391,11 +391,11 @@ fn wmul_limbs(a: u32, b: u32) -> u64 {
 /// the square root (`powf` uses it once), picked per target like `×`.
 #[inline(always)]
 fn wmul(a: u32, b: u32) -> u64 {
-    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+    #[cfg(armv6m)]
     {
         wmul_limbs(a, b)
     }
-    #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+    #[cfg(not(armv6m))]
     {
         wmul_native(a, b)
     }
@@ -429,14 +429,7 @@ fn mul16x32(w: u32, d: u32) -> u64 {
 /// (|a·b| ≤ 2⁶², so adding half an ulp cannot overflow), an arithmetic shift
 /// (which floors, so ties go towards +∞), then the clamp.
 #[inline(always)]
-#[cfg_attr(
-    not(any(
-        target_pointer_width = "64",
-        target_arch = "wasm32",
-        all(target_arch = "arm", not(target_has_atomic = "32"))
-    )),
-    allow(dead_code)
-)]
+#[cfg_attr(not(any(wide_mul, armv6m)), allow(dead_code))]
 fn mul_raw_native(a: i32, b: i32) -> i32 {
     let r = (a as i64 * b as i64 + HALF_ULP) >> FRAC;
     if r > RAW_MAX as i64 {
@@ -455,7 +448,7 @@ fn mul_raw_native(a: i32, b: i32) -> i32 {
 /// is that `hi` shifted right by `FRAC − 2` is its own sign. Larger products
 /// take [`clamp_words`].
 #[inline(always)]
-#[cfg_attr(any(target_pointer_width = "64", target_arch = "wasm32"), allow(dead_code))]
+#[cfg_attr(wide_mul, allow(dead_code))]
 fn round_words(hi: i32, lo: u32) -> i32 {
     if hi >> (FRAC - 2) != hi >> 31 {
         return clamp_words(hi, lo);
@@ -470,7 +463,7 @@ fn round_words(hi: i32, lo: u32) -> i32 {
 /// negative result past the range).
 #[cold]
 #[inline(never)]
-#[cfg_attr(any(target_pointer_width = "64", target_arch = "wasm32"), allow(dead_code))]
+#[cfg_attr(wide_mul, allow(dead_code))]
 fn clamp_words(hi: i32, lo: u32) -> i32 {
     let r = (hi << (32 - FRAC)) | (lo >> FRAC) as i32;
     if hi >> (FRAC - 1) == r >> 31 && r != i32::MIN {
@@ -486,10 +479,7 @@ fn clamp_words(hi: i32, lo: u32) -> i32 {
 /// product's two words (`mulh`/`mul` or `smull`), half an ulp added to the
 /// low word with its carry into the high one, then [`round_words`].
 #[inline(always)]
-#[cfg_attr(
-    any(target_pointer_width = "64", target_arch = "wasm32", all(target_arch = "arm", not(target_has_atomic = "32"))),
-    allow(dead_code)
-)]
+#[cfg_attr(any(wide_mul, armv6m), allow(dead_code))]
 fn mul_raw_words(a: i32, b: i32) -> i32 {
     let p = a as i64 * b as i64;
     let (lo, carry) = (p as u32).overflowing_add(HALF_ULP as u32);
@@ -527,7 +517,7 @@ fn mul_raw_words(a: i32, b: i32) -> i32 {
 /// `muls` and about 22 instructions on the fast path (no magnitudes, no
 /// sign fix-up, no 64-bit library call, no carry between words).
 #[inline(always)]
-#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+#[cfg_attr(not(armv6m), allow(dead_code))]
 fn mul_raw_limbs(a: i32, b: i32) -> i32 {
     const _: () = assert!(FRAC >= 16 && FRAC < 32);
     const F: u32 = FRAC - 16;
@@ -538,10 +528,7 @@ fn mul_raw_limbs(a: i32, b: i32) -> i32 {
     if h >> (FRAC - 2) != h >> 31 {
         return mul_raw_wide(a, b);
     }
-    let (al, bl) = (a & 0xFFFF, b & 0xFFFF);
-    let l = (al as u32).wrapping_mul(bl as u32).wrapping_add((HALF_ULP & 0xFFFF) as u32);
-    let c1 = ah.wrapping_mul(bl).wrapping_add((l >> 16) as i32).wrapping_add((HALF_ULP >> 16) as i32);
-    let c2 = al.wrapping_mul(bh);
+    let (c1, c2) = cross_limbs(a, b);
     // (`adds` and a branch on V: past 32 bits only near ±128, see above.)
     let (s, carried) = c1.overflowing_add(c2);
     if carried {
@@ -561,7 +548,7 @@ fn mul_raw_limbs(a: i32, b: i32) -> i32 {
 /// `|aₕ| < 2^(FRAC/2−1)` and `|C| < 2^(FRAC/2+15)`: no sum can overflow,
 /// and there is no cross-sum test. About 14 instructions.
 #[inline(always)]
-#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+#[cfg_attr(not(armv6m), allow(dead_code))]
 fn square_raw_limbs(a: i32) -> i32 {
     const _: () = assert!(FRAC >= 17 && FRAC < 32 && HALF_ULP & 0xFFFF == 0);
     let ah = a >> 16;
@@ -574,7 +561,7 @@ fn square_raw_limbs(a: i32) -> i32 {
 
 /// [`square_raw_limbs`]' fast path, given `h = aₕ²` below `2^(FRAC−2)`.
 #[inline(always)]
-#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+#[cfg_attr(not(armv6m), allow(dead_code))]
 fn square_limbs_fast(a: i32, h: i32) -> i32 {
     const F: u32 = FRAC - 16;
     let (ah, al) = (a >> 16, a & 0xFFFF);
@@ -597,26 +584,35 @@ const SMALL: i32 = 1 << 26;
 #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 #[inline(always)]
 fn mul_raw_small(a: i32, b: i32) -> i32 {
-    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+    #[cfg(armv6m)]
     {
         mul_limbs_small(a, b)
     }
-    #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+    #[cfg(not(armv6m))]
     {
         ((a as i64 * b as i64 + HALF_ULP) >> FRAC) as i32
     }
 }
 
-/// [`mul_raw_limbs`] without its two tests, for [`mul_raw_small`] on Armv6-M.
+/// The product's cross terms from 16-bit limbs, `C₁' = C₁ + q + ⌊h/2¹⁶⌋`
+/// (the low partial product and half an ulp `h` carried in) and `C₂`, as
+/// [`mul_raw_limbs`] defines them; shared with [`mul_limbs_small`].
 #[inline(always)]
-#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
-fn mul_limbs_small(a: i32, b: i32) -> i32 {
-    const F: u32 = FRAC - 16;
+#[cfg_attr(not(armv6m), allow(dead_code))]
+fn cross_limbs(a: i32, b: i32) -> (i32, i32) {
     let (ah, bh, al, bl) = (a >> 16, b >> 16, a & 0xFFFF, b & 0xFFFF);
-    let h = ah.wrapping_mul(bh);
     let l = (al as u32).wrapping_mul(bl as u32).wrapping_add((HALF_ULP & 0xFFFF) as u32);
     let c1 = ah.wrapping_mul(bl).wrapping_add((l >> 16) as i32).wrapping_add((HALF_ULP >> 16) as i32);
-    let c2 = al.wrapping_mul(bh);
+    (c1, al.wrapping_mul(bh))
+}
+
+/// [`mul_raw_limbs`] without its two tests, for [`mul_raw_small`] on Armv6-M.
+#[inline(always)]
+#[cfg_attr(not(armv6m), allow(dead_code))]
+fn mul_limbs_small(a: i32, b: i32) -> i32 {
+    const F: u32 = FRAC - 16;
+    let h = (a >> 16).wrapping_mul(b >> 16);
+    let (c1, c2) = cross_limbs(a, b);
     (h << (32 - FRAC)).wrapping_add(c1.wrapping_add(c2) >> F)
 }
 
@@ -625,12 +621,12 @@ fn mul_limbs_small(a: i32, b: i32) -> i32 {
 #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 #[inline(always)]
 fn square_raw_small(a: i32) -> i32 {
-    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+    #[cfg(armv6m)]
     {
         let ah = a >> 16;
         square_limbs_fast(a, ah.wrapping_mul(ah))
     }
-    #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+    #[cfg(not(armv6m))]
     {
         ((a as i64 * a as i64 + HALF_ULP) >> FRAC) as i32
     }
@@ -681,7 +677,7 @@ fn unit_and_length_raw(c: [i32; 3]) -> Option<([i32; 3], i32)> {
 /// product and clamp.
 #[cold]
 #[inline(never)]
-#[cfg_attr(not(all(target_arch = "arm", not(target_has_atomic = "32"))), allow(dead_code))]
+#[cfg_attr(not(armv6m), allow(dead_code))]
 fn mul_raw_wide(a: i32, b: i32) -> i32 {
     mul_raw_native(a, b)
 }
@@ -735,7 +731,7 @@ fn mul_recip(m: u32, wl: u32) -> u32 {
 /// The exact `(⌊n/d⌋, n mod d)` of `n = u1·2³² + u0`, by the native `u64`
 /// division.
 #[inline(always)]
-#[cfg_attr(not(any(target_pointer_width = "64", target_arch = "wasm32")), allow(dead_code))]
+#[cfg_attr(not(wide_mul), allow(dead_code))]
 fn div_words_native(u1: u32, u0: u32, d: u32) -> (u32, u32) {
     let n = ((u1 as u64) << 32) | u0 as u64;
     // d ≥ 2³¹ (normalised); `NonZeroU64` lets the compiler drop the
@@ -837,27 +833,15 @@ fn div_words_by_reciprocal(u1: u32, u0: u32, d: u32, wl: u32) -> (u32, u32) {
 /// The two-word division of this target (see above).
 #[inline(always)]
 fn div_words(u1: u32, u0: u32, d: u32) -> (u32, u32) {
-    #[cfg(any(target_pointer_width = "64", target_arch = "wasm32"))]
+    #[cfg(wide_mul)]
     {
         div_words_native(u1, u0, d)
     }
-    #[cfg(all(
-        not(any(target_pointer_width = "64", target_arch = "wasm32")),
-        any(
-            all(target_arch = "arm", not(target_has_atomic = "32")),
-            all(target_arch = "riscv32", not(target_feature = "m"))
-        )
-    ))]
+    #[cfg(div_by_reciprocal)]
     {
         div_words_reciprocal(u1, u0, d)
     }
-    #[cfg(all(
-        not(any(target_pointer_width = "64", target_arch = "wasm32")),
-        not(any(
-            all(target_arch = "arm", not(target_has_atomic = "32")),
-            all(target_arch = "riscv32", not(target_feature = "m"))
-        ))
-    ))]
+    #[cfg(not(any(wide_mul, div_by_reciprocal)))]
     {
         div_words_hw32(u1, u0, d)
     }
@@ -929,23 +913,14 @@ fn div_raw_normalised(a: i32, b: i32, s: u32, words: impl Fn(u32, u32, u32) -> (
 /// goes through a reciprocal, that reciprocal (about 50 instructions of
 /// the second division on Armv6-M).
 #[inline(always)]
-#[cfg_attr(
-    not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))),
-    allow(dead_code)
-)]
+#[cfg_attr(not(armv6m_inline_mul), allow(dead_code))]
 fn div2_raw(a1: i32, a2: i32, b: i32) -> (i32, i32) {
     if b == 0 {
         return (div_raw_by_zero(a1), div_raw_by_zero(a2));
     }
     let s = clz(b.unsigned_abs());
     // Where `div_words` is `div_words_reciprocal`, its reciprocal once.
-    let reciprocal = cfg!(all(
-        not(any(target_pointer_width = "64", target_arch = "wasm32")),
-        any(
-            all(target_arch = "arm", not(target_has_atomic = "32")),
-            all(target_arch = "riscv32", not(target_feature = "m"))
-        )
-    ));
+    let reciprocal = cfg!(div_by_reciprocal);
     if reciprocal {
         let wl = divisor_reciprocal(b.unsigned_abs().wrapping_shl(s));
         let words = |u1: u32, u0: u32, d: u32| div_words_by_reciprocal(u1, u0, d, wl);
@@ -1303,10 +1278,7 @@ const fn raw_from_f32(v: f32) -> i32 {
 // RV32IMAC (no flags) the test image larger and slower.
 
 /// The saturated sum's rare cases (overflow, `i32::MIN`).
-#[cfg_attr(
-    not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))),
-    allow(dead_code)
-)]
+#[cfg_attr(not(armv6m_inline_mul), allow(dead_code))]
 #[cold]
 #[inline(never)]
 fn add_rare(a: i32, b: i32) -> i32 {
@@ -1315,10 +1287,7 @@ fn add_rare(a: i32, b: i32) -> i32 {
 }
 
 /// The saturated difference's rare cases (overflow, `i32::MIN`).
-#[cfg_attr(
-    not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))),
-    allow(dead_code)
-)]
+#[cfg_attr(not(armv6m_inline_mul), allow(dead_code))]
 #[cold]
 #[inline(never)]
 fn sub_rare(a: i32, b: i32) -> i32 {
@@ -1329,7 +1298,7 @@ impl Add for Fixed32 {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
-        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul")))]
+        #[cfg(armv6m_inline_mul)]
         {
             let (s, v) = self.0.overflowing_add(o.0);
             if v || (s.wrapping_shl(1) == 0 && s != 0) {
@@ -1337,7 +1306,7 @@ impl Add for Fixed32 {
             }
             Fixed32(s)
         }
-        #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))))]
+        #[cfg(not(armv6m_inline_mul))]
         {
             Fixed32(self.0.saturating_add(o.0).max(RAW_MIN))
         }
@@ -1348,7 +1317,7 @@ impl Sub for Fixed32 {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
-        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul")))]
+        #[cfg(armv6m_inline_mul)]
         {
             let (s, v) = self.0.overflowing_sub(o.0);
             if v || (s.wrapping_shl(1) == 0 && s != 0) {
@@ -1356,7 +1325,7 @@ impl Sub for Fixed32 {
             }
             Fixed32(s)
         }
-        #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul"))))]
+        #[cfg(not(armv6m_inline_mul))]
         {
             Fixed32(self.0.saturating_sub(o.0).max(RAW_MIN))
         }
@@ -1380,19 +1349,15 @@ impl Mul for Fixed32 {
     #[cfg_attr(not(target_arch = "wasm32"), inline(always))]
     #[cfg_attr(target_arch = "wasm32", inline(never))]
     fn mul(self, o: Self) -> Self {
-        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+        #[cfg(armv6m)]
         {
             Fixed32(mul_raw_armv6m(self.0, o.0))
         }
-        #[cfg(any(target_pointer_width = "64", target_arch = "wasm32"))]
+        #[cfg(wide_mul)]
         {
             Fixed32(mul_raw_native(self.0, o.0))
         }
-        #[cfg(not(any(
-            target_pointer_width = "64",
-            target_arch = "wasm32",
-            all(target_arch = "arm", not(target_has_atomic = "32"))
-        )))]
+        #[cfg(not(any(wide_mul, armv6m)))]
         {
             Fixed32(mul_raw_words(self.0, o.0))
         }
@@ -1403,7 +1368,7 @@ impl Mul for Fixed32 {
 /// instructions each), or with the feature `compact-mul` one
 /// shared copy that every use calls (a few more instructions per product,
 /// a few bytes per use).
-#[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+#[cfg(armv6m)]
 #[cfg_attr(feature = "compact-mul", inline(never))]
 #[cfg_attr(not(feature = "compact-mul"), inline(always))]
 fn mul_raw_armv6m(a: i32, b: i32) -> i32 {
@@ -1448,11 +1413,11 @@ impl Scalar for Fixed32 {
     /// the product; the same bits.
     #[inline(always)]
     fn square(self) -> Self {
-        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+        #[cfg(armv6m)]
         {
             Fixed32(square_raw_limbs(self.0))
         }
-        #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+        #[cfg(not(armv6m))]
         {
             self * self
         }
@@ -1464,7 +1429,7 @@ impl Scalar for Fixed32 {
     /// to 48 KiB); on RV32IMAC (a hardware word division) the shared
     /// function made the two-scalar test image 2.5 KB larger, past 128 KiB,
     /// for 0.2 % fewer instructions. Elsewhere two divisions.
-    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32"), not(feature = "compact-mul")))]
+    #[cfg(armv6m_inline_mul)]
     #[inline(never)]
     fn div_pair(a: Self, b: Self, d: Self) -> (Self, Self) {
         let (p, q) = div2_raw(a.0, b.0, d.0);

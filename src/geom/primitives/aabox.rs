@@ -46,10 +46,7 @@ impl<S: Scalar> AaBox<S> {
     // Forced inline into the query loops except on Armv6-M (Cortex-M0/M0+,
     // the one target without 32-bit atomics), where the copies would not fit
     // a small flash: there each kernel is one function per packet width.
-    #[cfg_attr(
-        all(not(debug_assertions), not(all(target_arch = "arm", not(target_has_atomic = "32")))),
-        inline(always)
-    )]
+    #[cfg_attr(all(not(debug_assertions), not(armv6m)), inline(always))]
     pub fn roots<const W: usize>(
         &self,
         ray: &RayPacket<S, W>,

@@ -101,14 +101,7 @@ impl<S: Scalar> Shape<S> {
     // the one target without 32-bit atomics), where the copies would not fit
     // a small flash, and on WebAssembly, whose module a browser downloads
     // (web/): there each kernel is one function per packet width.
-    #[cfg_attr(
-        all(
-            not(debug_assertions),
-            not(all(target_arch = "arm", not(target_has_atomic = "32"))),
-            not(target_arch = "wasm32")
-        ),
-        inline(always)
-    )]
+    #[cfg_attr(all(not(debug_assertions), not(armv6m), not(target_arch = "wasm32")), inline(always))]
     pub fn roots<const W: usize>(
         &self,
         pool: &[Vec3<S>],
