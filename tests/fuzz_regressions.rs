@@ -102,6 +102,26 @@ fn far_cone_bvh_and_brute_force_give_the_same_bytes() {
     assert_eq!(differ, 0, "{differ} of 256 pixels differ");
 }
 
+/// `render_tiny` (RAYPACK_FUZZ_EXACT=1, 2026-12-05), minimized: a polygon
+/// whose first vertex left its plane (`5.22625` became `55.22625`) and a
+/// mirror cylinder. The kernel hits Newell's plane through the first vertex
+/// inside the projected outline, and there the plane runs below the
+/// vertices' lowest `y`: the BVH's box of the vertices passed over hits
+/// that brute force found (reflected rays). `Polygon::bounds` now bounds
+/// the plane over the outline too.
+const NON_PLANAR_POLYGON: &str =
+    "v\nfrom -1 -2.61313 0.5\nat -1 -1.61313 0.5\nup 0 0 1\nangle 45\nhither 1\nresolution 512 512\n\
+l 2 -2.61313 -4\nf 1 1 1 1 0 100000 0 0\n\
+p 4\n2.2796 55.22625 3.77965\n-4.27965 5.22625 3.77965\n-4.27965 5.22625 -2.77965\n2.27965 5.22625 -2.77965\n\
+f 1 1 0 0.5 0.2 3.0827 0 0\nc -0.753191 2.85785 -0.489453 0.07412 -0.465497 3.25383 0.489453 0.07412\n";
+
+#[test]
+fn a_non_planar_polygon_gives_the_same_bytes_by_bvh_and_brute_force() {
+    let (bvh, brute) = both(NON_PLANAR_POLYGON, 64, 64);
+    let differ = bvh.iter().zip(&brute).filter(|(a, b)| a != b).count();
+    assert_eq!(differ, 0, "{differ} of 4096 pixels differ");
+}
+
 /// `render_tiny` (RAYPACK_FUZZ_EXACT=1), minimized from extensions.nff: the
 /// `obox` line lost a minus sign (`-1 1 0` became `\r1 1 0`), so its `u`
 /// and `v` are both (1, 1, 0). Gram-Schmidt left rounding noise that
