@@ -650,6 +650,12 @@ impl<S: Scalar> Polygon<S> {
             // normal's largest component (at least 1/√3), so the quotient
             // is well conditioned.
             let on = -(self.d + nu * p.axis(u) + nv * p.axis(v)) / nw;
+            // (Defensive: a sum past `f32`'s range would make the bound
+            // infinite or NaN; Newell's normal is not finite for outlines
+            // that large, which are degenerate, so this does not arise.)
+            if !on.is_finite() {
+                return (lo, hi);
+            }
             let q = match w {
                 0 => Vec3::new(on, p.y, p.z),
                 1 => Vec3::new(p.x, on, p.z),
