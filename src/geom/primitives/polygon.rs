@@ -638,14 +638,17 @@ impl<S: Scalar> Polygon<S> {
     pub fn bounds(&self, pool: &[Vec3<S>]) -> (Vec3<S>, Vec3<S>) {
         let verts = self.vertices(pool);
         let first = verts.first().copied().unwrap_or(Vec3::ZERO);
+        let (lo, hi) = verts.iter().fold((first, first), |(lo, hi), &p| (lo.min_elem(p), hi.max_elem(p)));
+        if self.degenerate {
+            return (lo, hi);
+        }
+        // Only the dropped axis `w` can grow: the plane's points above the
+        // vertices share their `(u, v)`.
         let (u, v) = (self.axis_u as usize, self.axis_v as usize);
         let w = 3 - u - v;
         let (nu, nv, nw) = (self.normal.axis(u), self.normal.axis(v), self.normal.axis(w));
-        verts.iter().fold((first, first), |(lo, hi), &p| {
-            let (lo, hi) = (lo.min_elem(p), hi.max_elem(p));
-            if self.degenerate {
-                return (lo, hi);
-            }
+        let (mut w_lo, mut w_hi) = (lo.axis(w), hi.axis(w));
+        for p in verts {
             // The plane's dropped coordinate over p's (u, v): `nw` is the
             // normal's largest component (at least 1/√3), so the quotient
             // is well conditioned.
@@ -653,16 +656,16 @@ impl<S: Scalar> Polygon<S> {
             // (Defensive: a sum past `f32`'s range would make the bound
             // infinite or NaN; Newell's normal is not finite for outlines
             // that large, which are degenerate, so this does not arise.)
-            if !on.is_finite() {
-                return (lo, hi);
+            if on.is_finite() {
+                w_lo = w_lo.min(on);
+                w_hi = w_hi.max(on);
             }
-            let q = match w {
-                0 => Vec3::new(on, p.y, p.z),
-                1 => Vec3::new(p.x, on, p.z),
-                _ => Vec3::new(p.x, p.y, on),
-            };
-            (lo.min_elem(q), hi.max_elem(q))
-        })
+        }
+        match w {
+            0 => (Vec3::new(w_lo, lo.y, lo.z), Vec3::new(w_hi, hi.y, hi.z)),
+            1 => (Vec3::new(lo.x, w_lo, lo.z), Vec3::new(hi.x, w_hi, hi.z)),
+            _ => (Vec3::new(lo.x, lo.y, w_lo), Vec3::new(hi.x, hi.y, w_hi)),
+        }
     }
 }
 
