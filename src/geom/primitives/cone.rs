@@ -87,25 +87,44 @@ impl<S: Scalar> Cone<S> {
         t_max: Lanes<S, W>,
         active: Mask<W>,
     ) -> Roots<S, W> {
-        // Solve from the point of the ray nearest the base, at t = shift,
-        // rather than from the origin: where the ray passes near the cone
-        // that point is within the cone's own size of it, so c and the
-        // discriminant below are formed from numbers of that size (from a
-        // far origin, c = x² + y² − r² and b² − a·c keep nothing of the
-        // radius, and a thin cone would be reported hit units away from
-        // it). The roots s are measured from that point; t = shift + s.
+        // Solve from a point of the ray near the cone rather than from its
+        // origin: from a far origin, c = x² + y² − r² and b² − a·c keep
+        // nothing of the radius, and a thin cone would be reported hit units
+        // away from it. The point is the ray's nearest to the axis, moved
+        // along the ray until its axial coordinate lies on the piece [0, h]:
+        // where the ray passes near the cone, that point is within the
+        // cone's radius of the axis and on its length, however long the
+        // cone is, so the numbers below are of the cone's own size across
+        // the axis. (The ray's nearest point to the base is not: for a cone
+        // much longer than it is wide it can lie a whole length away.)
+        //
+        // Work in the cone's frame (orthonormal: distances along the ray
+        // unchanged): the origin at (px, py, pz) from the base, the
+        // direction (dx, dy, dz).
         let from_base = ray.origin.sub_splat(self.base);
-        let shift = -from_base.dot(ray.dir);
-        // Transform that point and the direction into the cone's frame
-        // (orthonormal: distances along the ray unchanged).
-        let rel = from_base + ray.dir.scale(shift);
-        let (ox, oy, oz) = (rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
+        let (px, py, pz) = (from_base.dot_splat(self.u), from_base.dot_splat(self.v), from_base.dot_splat(self.w));
         let (dx, dy, dz) = (ray.dir.dot_splat(self.u), ray.dir.dot_splat(self.v), ray.dir.dot_splat(self.w));
+        // Across the axis the ray is (px, py) + t·(dx, dy): nearest the axis
+        // at t_axis = −(px·dx + py·dy)/(dx² + dy²), formed from the origin's
+        // distance to the axis, not from its distance along it (so a far
+        // base costs no precision). A ray parallel to the axis takes t = 0.
+        let across = dx * dx + dy * dy;
+        let skew = across.gt(Lanes::zero());
+        let t_axis = Lanes::select(skew, (-(px * dx + py * dy)).div_nonzero(across), Lanes::zero());
+        // Where that point's axial coordinate z leaves [0, h], move to the
+        // ray's point nearest the axis point at the end: along the ray that
+        // is (z_end − z)·dz further (the connecting segment stays across the
+        // axis). Any shift is exact in theory, t = shift + s; only the
+        // rounding depends on it.
+        let z_axis = pz + t_axis * dz;
+        let h = Lanes::splat(self.height);
+        let shift = t_axis + (z_axis.max(Lanes::zero()).min(h) - z_axis) * dz;
+        let (ox, oy, oz) = (px + dx * shift, py + dy * shift, pz + dz * shift);
         // Surface: x² + y² = r(z)², r(z) = r_b + k·z. With x = o + t·d this is
         // a t² + 2b' t + c = 0 (half-b form).
         let k = self.slope;
         let r_o = oz * k + self.base_radius;
-        let a = dx * dx + dy * dy - dz * dz * (k * k);
+        let a = across - dz * dz * (k * k);
         let b = ox * dx + oy * dy - dz * r_o * k;
         let c = ox * ox + oy * oy - r_o * r_o;
         // Compute the discriminant (of the half-b form); a = 0 is linear.
@@ -131,7 +150,6 @@ impl<S: Scalar> Cone<S> {
         // un-inlined and so compiled for the baseline instruction set.)
         let z0 = oz + dz * s0;
         let z1 = oz + dz * s1;
-        let h = Lanes::splat(self.height);
         let ok0 = (quad | lin) & z0.ge(Lanes::zero()) & z0.le(h);
         let ok1 = quad & q.ne_lanes(Lanes::zero()) & z1.ge(Lanes::zero()) & z1.le(h);
         Roots::from_candidates(shift + s0, ok0, shift + s1, ok1, t_min, t_max)
@@ -214,6 +232,94 @@ mod tests {
         let n = c.normals::<1>(&Vec3::new(0.5, 0.0, 0.5).splat()).lane(0).normalize_or_zero();
         let e = Vec3::new(1.0, 0.0, 1.0).normalize_or_zero();
         assert!((n - e).length() < 1e-6, "{n:?}");
+    }
+
+    #[test]
+    fn long_thin_cones_are_hit_only_on_their_side() {
+        // Cones up to 10⁶ times longer than they are wide, rays from within
+        // a few units of a random point of the axis, aimed across the axis
+        // at up to three radii from it. Every reported crossing must lie on
+        // the side (checked in f64 from the f32 ray and t), and a ray aimed
+        // through the axis inside the piece must cross it.
+        let mut state = 0x5eed_c0e5u64;
+        let mut unit = || (crate::num::test_rng::splitmix64(&mut state) >> 40) as f64 / (1u64 << 24) as f64;
+        let (mut checked, mut through) = (0, 0);
+        for _ in 0..1000 {
+            let len = 10f64.powf(1.0 + 5.0 * unit());
+            let (rb, ra) = (0.05 + 0.4 * unit(), if unit() < 0.5 { 0.0 } else { 0.05 + 0.4 * unit() });
+            let base = [len, 0.6 + unit(), unit() - 0.5];
+            let apex = [3.0 * unit(), 0.6, 1.2 * unit()];
+            let Ok(cone) = Cone::new(
+                Vec3::new(base[0] as f32, base[1] as f32, base[2] as f32),
+                rb as f32,
+                Vec3::new(apex[0] as f32, apex[1] as f32, apex[2] as f32),
+                ra as f32,
+            ) else {
+                continue;
+            };
+            // The cone exactly as stored (f32 ends and radii), in f64.
+            let (b, rb, a, ra) = cone.ends();
+            let b = [b.x as f64, b.y as f64, b.z as f64];
+            let a = [a.x as f64, a.y as f64, a.z as f64];
+            let (rb, ra) = (rb as f64, ra as f64);
+            let ax = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+            let h = (ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]).sqrt();
+            let w = [ax[0] / h, ax[1] / h, ax[2] / h];
+            // A point on the axis at fraction f, and a perpendicular offset.
+            let near_apex = unit() < 0.5;
+            let f = if near_apex { 1.0 - (30.0 / h).min(0.98) * unit() } else { 0.02 + 0.96 * unit() };
+            let z = f * h;
+            let r_z = rb + (ra - rb) * f;
+            let on_axis = [b[0] + w[0] * z, b[1] + w[1] * z, b[2] + w[2] * z];
+            let rho = if unit() < 0.25 { 0.0 } else { 3.0 * r_z * unit() };
+            let side = [-w[1], w[0], 0.0];
+            let sn = (side[0] * side[0] + side[1] * side[1]).sqrt();
+            let target = [on_axis[0] + side[0] / sn * rho, on_axis[1] + side[1] / sn * rho, on_axis[2]];
+            // Rays from within a few units of the target; for targets within
+            // 30 units of the apex, half of them from above the axis up to
+            // 40 units either side of the apex (a camera near a thin cone's
+            // tip, looking along it or across it).
+            let o = if !near_apex || unit() < 0.5 {
+                [target[0] + 4.0 * (unit() - 0.5), target[1] + 4.0 * (unit() - 0.5), target[2] + 2.0 + unit()]
+            } else {
+                let (back, up) = (80.0 * unit() - 40.0, 2.0 + 10.0 * unit());
+                [a[0] - w[0] * back, a[1] - w[1] * back + up * (unit() - 0.5), a[2] + up]
+            };
+            let d = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
+            let dl = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let (o32, d32) = (o.map(|x| x as f32), d.map(|x| (x / dl) as f32));
+            let found = hits(&Shape::Cone(cone), o32, d32);
+            // The cone as the kernel defines it: its f32 frame (u, v, w),
+            // base and slope taken exactly into f64, so the check measures
+            // the kernel's arithmetic, not the rounding of its frame.
+            let f64s = |v: Vec3<f32>| [v.x as f64, v.y as f64, v.z as f64];
+            let (u, v, w) = (f64s(cone.u), f64s(cone.v), f64s(cone.w));
+            let (k, hk) = (cone.slope as f64, cone.height as f64);
+            let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+            for t in &found {
+                let p: [f64; 3] = core::array::from_fn(|i| o32[i] as f64 + d32[i] as f64 * *t as f64 - b[i]);
+                let (x, y, zp) = (dot(&p, &u), dot(&p, &v), dot(&p, &w));
+                let dist = (x * x + y * y).sqrt();
+                let r = rb + k * zp;
+                // Allowance: the rounding of t (its last bit moves the point
+                // along the ray), of the axial coordinate times the slope,
+                // and of numbers of the ray's size near the cone.
+                let tol = 2e-5
+                    + 1e-7 * (*t as f64) * (1.0 - dot(&w, &d32.map(|x| x as f64)).powi(2)).max(0.0).sqrt()
+                    + 1e-7 * zp.abs() * k.abs();
+                if (dist - r).abs() > tol {
+                    std::eprintln!("o {o32:?} d {d32:?} base {b:?} rb {rb} apex {a:?} ra {ra} t {t} found {found:?}");
+                }
+                assert!((dist - r).abs() <= tol && zp >= -1e-7 * hk && zp <= hk * (1.0 + 1e-7),
+                    "len {len}: a crossing at t = {t} is {dist} from the axis where the radius is {r} (z {zp} of {hk}; allowed {tol})");
+                checked += 1;
+            }
+            if rho == 0.0 && f > 0.05 && f < 0.95 {
+                assert!(!found.is_empty(), "len {len}: a ray through the axis at {f} of the length missed");
+                through += 1;
+            }
+        }
+        assert!(checked > 700 && through > 100, "{checked} crossings, {through} rays through the axis");
     }
 
     #[test]
