@@ -107,10 +107,10 @@ impl<S: Scalar> Cone<S> {
         // Across the axis the ray is (px, py) + t·(dx, dy): nearest the axis
         // at t_axis = −(px·dx + py·dy)/(dx² + dy²), formed from the origin's
         // distance to the axis, not from its distance along it (so a far
-        // base costs no precision). A ray parallel to the axis takes t = 0.
+        // base costs no precision). A ray parallel to the axis
+        // (dx = dy = 0) takes t = 0, the numerator (`div_nonzero` returns it).
         let across = dx * dx + dy * dy;
-        let skew = across.gt(Lanes::zero());
-        let t_axis = Lanes::select(skew, (-(px * dx + py * dy)).div_nonzero(across), Lanes::zero());
+        let t_axis = (-(px * dx + py * dy)).div_nonzero(across);
         // Where that point's axial coordinate z leaves [0, h], move to the
         // ray's point nearest the axis point at the end: along the ray that
         // is (z_end − z)·dz further (the connecting segment stays across the
@@ -138,12 +138,11 @@ impl<S: Scalar> Cone<S> {
         // q = −(b' + sign(b')·√Δ'): roots q/a and c/q, without cancellation.
         let sq = Lanes::select(quad, disc, Lanes::zero()).sqrt();
         let q = Lanes::select(b.ge(Lanes::zero()), -(b + sq), sq - b);
-        let r0 = q.div_nonzero(a);
-        let r1 = c.div_nonzero(q);
-        // Linear: 2b' t + c = 0.
-        let rl = (-c).div_nonzero(b * S::TWO);
-        let s0 = Lanes::select(lin, rl, r0);
-        let s1 = r1;
+        // The first root is q/a, or −c/(2b') where the equation is linear
+        // (2b' t + c = 0): one division of the selected operands, the same
+        // bits as either division alone.
+        let s0 = Lanes::select(lin, -c, q).div_nonzero(Lanes::select(lin, b * S::TWO, a));
+        let s1 = c.div_nonzero(q);
         // Keep roots whose axial coordinate lies on the finite piece [0, h]
         // (this also removes the mirror nappe of a true cone).
         // (Written out twice rather than as a closure, which LLVM may leave
