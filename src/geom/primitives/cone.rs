@@ -242,6 +242,8 @@ mod tests {
         // through the axis inside the piece must cross it.
         let mut state = 0x5eed_c0e5u64;
         let mut unit = || (crate::num::test_rng::splitmix64(&mut state) >> 40) as f64 / (1u64 << 24) as f64;
+        let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let f64s = |v: Vec3<f32>| [v.x as f64, v.y as f64, v.z as f64];
         let (mut checked, mut through) = (0, 0);
         for _ in 0..1000 {
             let len = 10f64.powf(1.0 + 5.0 * unit());
@@ -258,12 +260,10 @@ mod tests {
             };
             // The cone exactly as stored (f32 ends and radii), in f64.
             let (b, rb, a, ra) = cone.ends();
-            let b = [b.x as f64, b.y as f64, b.z as f64];
-            let a = [a.x as f64, a.y as f64, a.z as f64];
-            let (rb, ra) = (rb as f64, ra as f64);
-            let ax = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-            let h = (ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]).sqrt();
-            let w = [ax[0] / h, ax[1] / h, ax[2] / h];
+            let (b, a, rb, ra) = (f64s(b), f64s(a), rb as f64, ra as f64);
+            let ax: [f64; 3] = core::array::from_fn(|i| a[i] - b[i]);
+            let h = dot(&ax, &ax).sqrt();
+            let w = ax.map(|x| x / h);
             // A point on the axis at fraction f, and a perpendicular offset.
             let near_apex = unit() < 0.5;
             let f = if near_apex { 1.0 - (30.0 / h).min(0.98) * unit() } else { 0.02 + 0.96 * unit() };
@@ -285,32 +285,27 @@ mod tests {
                 [a[0] - w[0] * back, a[1] - w[1] * back + up * (unit() - 0.5), a[2] + up]
             };
             let d = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
-            let dl = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let dl = dot(&d, &d).sqrt();
             let (o32, d32) = (o.map(|x| x as f32), d.map(|x| (x / dl) as f32));
             let found = hits(&Shape::Cone(cone), o32, d32);
             // The cone as the kernel defines it: its f32 frame (u, v, w),
             // base and slope taken exactly into f64, so the check measures
             // the kernel's arithmetic, not the rounding of its frame.
-            let f64s = |v: Vec3<f32>| [v.x as f64, v.y as f64, v.z as f64];
-            let (u, v, w) = (f64s(cone.u), f64s(cone.v), f64s(cone.w));
+            let (ku, kv, kw) = (f64s(cone.u), f64s(cone.v), f64s(cone.w));
             let (k, hk) = (cone.slope as f64, cone.height as f64);
-            let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
             for t in &found {
                 let p: [f64; 3] = core::array::from_fn(|i| o32[i] as f64 + d32[i] as f64 * *t as f64 - b[i]);
-                let (x, y, zp) = (dot(&p, &u), dot(&p, &v), dot(&p, &w));
+                let (x, y, zp) = (dot(&p, &ku), dot(&p, &kv), dot(&p, &kw));
                 let dist = (x * x + y * y).sqrt();
                 let r = rb + k * zp;
                 // Allowance: the rounding of t (its last bit moves the point
                 // along the ray), of the axial coordinate times the slope,
                 // and of numbers of the ray's size near the cone.
                 let tol = 2e-5
-                    + 1e-7 * (*t as f64) * (1.0 - dot(&w, &d32.map(|x| x as f64)).powi(2)).max(0.0).sqrt()
+                    + 1e-7 * (*t as f64) * (1.0 - dot(&kw, &d32.map(|x| x as f64)).powi(2)).max(0.0).sqrt()
                     + 1e-7 * zp.abs() * k.abs();
-                if (dist - r).abs() > tol {
-                    std::eprintln!("o {o32:?} d {d32:?} base {b:?} rb {rb} apex {a:?} ra {ra} t {t} found {found:?}");
-                }
                 assert!((dist - r).abs() <= tol && zp >= -1e-7 * hk && zp <= hk * (1.0 + 1e-7),
-                    "len {len}: a crossing at t = {t} is {dist} from the axis where the radius is {r} (z {zp} of {hk}; allowed {tol})");
+                    "len {len}: a crossing at t = {t} is {dist} from the axis where the radius is {r} (z {zp} of {hk}; allowed {tol}; ray {o32:?} + t·{d32:?})");
                 checked += 1;
             }
             if rho == 0.0 && f > 0.05 && f < 0.95 {
