@@ -18,6 +18,8 @@ use std::cell::Cell;
 #[derive(Default)]
 struct Tally {
     tests: [Cell<u64>; 3],
+    /// Shadow tests by primitive (the demo's 11; the last cell sums the rest).
+    shadow_by_primitive: [Cell<u64>; 12],
 }
 
 thread_local! {
@@ -27,6 +29,13 @@ thread_local! {
 
 fn add(kind: usize, n: u64) {
     TALLY.with(|t| t.tests[kind].set(t.tests[kind].get() + n));
+}
+
+fn add_shadow(k: usize, n: u64) {
+    TALLY.with(|t| {
+        let c = &t.shadow_by_primitive[k.min(11)];
+        c.set(c.get() + n)
+    });
 }
 
 /// Brute force that counts its tests; `CULL` says whether it takes the
@@ -99,6 +108,7 @@ impl<S: Scalar, const CULL: bool> Accelerator<S> for Counting<CULL> {
                 continue;
             }
             add(2, live.count() as u64);
+            add_shadow(k, live.count() as u64);
             let r = p.shape.roots(verts, ray, t_min, t_max, live);
             if r.hit0.any() && scene.kt_of_material(p.material) == S::ZERO {
                 live = live.and_not(r.hit0);
@@ -114,7 +124,7 @@ fn frame<S: Scalar, const CULL: bool>(name: &str) -> Vec<Rgb8> {
     let frame = build_demo_scene_for(&mut scene, &mut described).unwrap();
     let camera = demo_camera_for::<S>(&frame, 160, 128).unwrap();
     EYE.with(|e| e.set(camera.eye().to_f32().map(f32::to_bits)));
-    TALLY.with(|t| t.tests.iter().for_each(|c| c.set(0)));
+    TALLY.with(|t| t.tests.iter().chain(&t.shadow_by_primitive).for_each(|c| c.set(0)));
     let tracer: Tracer<S, Counting<CULL>> =
         Tracer::with_accelerator(scene.view(), Counting::<CULL>, TraceSettings::default()).unwrap();
     let renderer = Renderer::new(tracer, camera);
@@ -148,6 +158,8 @@ fn frame<S: Scalar, const CULL: bool>(name: &str) -> Vec<Rgb8> {
         rays[1],
         rays[2],
     );
+    let by: Vec<u64> = TALLY.with(|t| t.shadow_by_primitive.iter().map(Cell::get).collect());
+    println!("{name} culling={} shadow tests by primitive (scene order): {by:?}", if CULL { "on" } else { "off" });
     img
 }
 

@@ -328,6 +328,20 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     pub fn sub_splat(self, v: Vec3<S>) -> Self {
         Vec3::new(self.x - v.x, self.y - v.y, self.z - v.z)
     }
+    /// The lanes whose vector lies in the box `[lo, hi]` (every component
+    /// between its bounds, both included; NaN in none), as one loop with
+    /// each lane's six comparisons in its body, so that a vectoriser keeps
+    /// the lanes in whole registers (lane-wise `ge`/`le` masks combined
+    /// with `&` were compared lane by lane on the Cortex-M55).
+    #[inline(always)]
+    pub fn in_box(&self, lo: Vec3<S>, hi: Vec3<S>) -> Mask<W> {
+        let mut m = [false; W];
+        for (i, m) in m.iter_mut().enumerate() {
+            let (x, y, z) = (self.x.0[i], self.y.0[i], self.z.0[i]);
+            *m = (x >= lo.x) & (x <= hi.x) & (y >= lo.y) & (y <= hi.y) & (z >= lo.z) & (z <= hi.z);
+        }
+        Mask::from_array(m)
+    }
     /// Dot product of every lane with the scalar vector `v`.
     ///
     /// Where [`Scalar::SPARSE_PRODUCTS`] holds, the terms of `v`'s zero
@@ -462,6 +476,36 @@ mod tests {
         assert_eq!(ok.to_array(), [false, true]);
         assert_eq!(n.lane(0), Vec3::ZERO);
         assert_eq!(n.lane(1), Vec3::new(0.6, 0.8, 0.0));
+    }
+
+    #[test]
+    fn in_box_is_the_six_comparisons_of_each_lane() {
+        let (lo, hi) = (Vec3::new(-1.0f32, 0.0, 0.5), Vec3::new(1.0, 0.0, 2.0));
+        // Inside, on each bound, just outside each bound, NaN in each component.
+        let pts = [
+            (Vec3::new(0.0, 0.0, 1.0), true),
+            (Vec3::new(-1.0, 0.0, 0.5), true),
+            (Vec3::new(1.0, 0.0, 2.0), true),
+            (Vec3::new(-1.0000001, 0.0, 1.0), false),
+            (Vec3::new(1.0000001, 0.0, 1.0), false),
+            (Vec3::new(0.0, -1e-30, 1.0), false),
+            (Vec3::new(0.0, 1e-30, 1.0), false),
+            (Vec3::new(0.0, 0.0, 0.4999999), false),
+            (Vec3::new(0.0, 0.0, 2.0000002), false),
+            (Vec3::new(f32::NAN, 0.0, 1.0), false),
+            (Vec3::new(0.0, f32::NAN, 1.0), false),
+            (Vec3::new(0.0, 0.0, f32::NAN), false),
+        ];
+        for chunk in pts.chunks(4) {
+            let mut p = Vec3xW::<f32, 4>::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
+            for (i, (v, _)) in chunk.iter().enumerate() {
+                p.set_lane(i, *v);
+            }
+            let m = p.in_box(lo, hi);
+            for (i, (v, inside)) in chunk.iter().enumerate() {
+                assert_eq!(m.get(i), *inside, "{v:?}");
+            }
+        }
     }
 
     #[test]
