@@ -868,18 +868,6 @@ impl<S: Scalar> ShadowCull<S> {
         // lanes inside it.
         let reached = |o: &Occluder<S>| {
             let (lo, hi) = (o.dlo, o.dhi);
-            if W > 1 && W <= 4 {
-                // A packet of up to 4: the six comparisons of every lane
-                // at once (on the Cortex-M55 one vector compare and five
-                // predicated ones, where the axis-by-axis form below
-                // compared lane by lane: width 4 37.68 M → 36.71 M
-                // instructions a frame; at width 8 LLVM made all 48
-                // comparisons scalar, 47.89 M → 51.45 M, so wider packets
-                // keep that form).
-                let inside = lit & dir.in_box(lo, hi);
-                return inside.any()
-                    && (o.limit == S::MAX || (inside & dir.dot_splat_small(o.axis).le(Lanes::splat(o.limit))).any());
-            }
             let mut inside = lit & dir.x.ge(Lanes::splat(lo.x)) & dir.x.le(Lanes::splat(hi.x));
             if inside.none() {
                 return false;
@@ -912,6 +900,20 @@ impl<S: Scalar> ShadowCull<S> {
                 entries &= entries.wrapping_sub(1);
                 let (Some(o), Some(&k)) = (row.get(e), index.get(e)) else { break };
                 if reached(o) {
+                    m |= 1 << k;
+                }
+            }
+        } else if W > 1 && W <= 4 {
+            // A packet of 2 to 4 lanes: every entry, each lane's six box
+            // comparisons at once (on the Cortex-M55 one vector compare and
+            // five predicated ones, where the axis-by-axis form of
+            // `reached` compares lane by lane; at width 8 LLVM made all 48
+            // comparisons scalar, so wider packets keep that form).
+            for (o, &k) in row.iter().zip(index).take(n as usize) {
+                let inside = lit & dir.in_box(o.dlo, o.dhi);
+                if inside.any()
+                    && (o.limit == S::MAX || (inside & dir.dot_splat_small(o.axis).le(Lanes::splat(o.limit))).any())
+                {
                     m |= 1 << k;
                 }
             }
