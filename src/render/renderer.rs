@@ -211,8 +211,12 @@ fn put<const W: usize>(x0: u32, y0: u32, frame: Rect, out: &mut [Rgb8], px: &[Rg
         let (x, y) = (x0.wrapping_sub(frame.x) as usize, y0.wrapping_sub(frame.y) as usize);
         let pw = pw as usize;
         for r in 0..ph as usize {
+            // (Ranges of exactly `pw` pixels, so that the copy below has
+            // a length known at compile time: a few loads and stores, not
+            // a call to `memcpy`.)
             let at = (y + r).saturating_mul(frame.w as usize).saturating_add(x);
-            let (Some(d), Some(row)) = (out.get_mut(at..at.saturating_add(pw)), px.get(r * pw..(r + 1) * pw)) else {
+            let Some(end) = at.checked_add(pw) else { continue };
+            let (Some(d), Some(row)) = (out.get_mut(at..end), px.get(r * pw..(r + 1) * pw)) else {
                 continue;
             };
             for (d, p) in d.iter_mut().zip(row) {
