@@ -647,10 +647,22 @@ fn square_raw_small(a: i32) -> i32 {
 /// saturate and is positive, `1/√S ∈ [0.57, 2]`, and every product has
 /// operands below 4 ([`mul_raw_small`]). Only the length's scaling back by
 /// `2^−k` can saturate, and keeps its test.
+/// `[f(x), f(y), f(z)]`, written out: `array::map` at opt-level `s` stays
+/// a call to a generic routine (about 70 instructions for three words on
+/// the Cortex-M0, twice per normalisation).
 #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 #[inline(always)]
+fn map3<T, U>([x, y, z]: [T; 3], mut f: impl FnMut(T) -> U) -> [U; 3] {
+    [f(x), f(y), f(z)]
+}
+
+// (Out of line with `compact-mul`, the image held to 48 KiB: inline at each
+// normalisation it took 0.9 KB more there.)
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+#[cfg_attr(not(all(armv6m, not(armv6m_inline_mul))), inline(always))]
+#[cfg_attr(all(armv6m, not(armv6m_inline_mul)), inline(never))]
 fn unit_and_length_raw(c: [i32; 3]) -> Option<([i32; 3], i32)> {
-    let [x, y, z] = c.map(i32::unsigned_abs);
+    let [x, y, z] = map3(c, i32::unsigned_abs);
     let m = x.max(y).max(z);
     let top = 31 - clz(m) as i32;
     if !(17..=30).contains(&top) {
@@ -660,16 +672,16 @@ fn unit_and_length_raw(c: [i32; 3]) -> Option<([i32; 3], i32)> {
     // `mul_pow2(k)`: a shift left that stays below 2²⁴, or a right shift
     // rounded half up.
     let v = if k >= 0 {
-        c.map(|c| c << k)
+        map3(c, |c| c << k)
     } else {
         let s = k.unsigned_abs();
-        c.map(|c| (c >> s).wrapping_add((c >> (s - 1)) & 1))
+        map3(c, |c| (c >> s).wrapping_add((c >> (s - 1)) & 1))
     };
-    let [sx, sy, sz] = v.map(square_raw_small);
+    let [sx, sy, sz] = map3(v, square_raw_small);
     let squared = sx.wrapping_add(sy).wrapping_add(sz);
     let inv = Fixed32(squared).inverse_sqrt().0;
     let len = mul_raw_small(squared, inv);
-    Some((v.map(|v| mul_raw_small(v, inv)), Fixed32(len).mul_pow2(-k).0))
+    Some((map3(v, |v| mul_raw_small(v, inv)), Fixed32(len).mul_pow2(-k).0))
 }
 
 /// [`mul_raw_limbs`] for products of magnitude about `2^(30−FRAC)` and up
@@ -1458,7 +1470,7 @@ impl Scalar for Fixed32 {
     #[cfg(not(target_arch = "wasm32"))]
     #[inline(always)]
     fn unit_and_length(v: [Self; 3]) -> Option<([Self; 3], Self)> {
-        unit_and_length_raw(v.map(|c| c.0)).map(|(n, len)| (n.map(Fixed32), Fixed32(len)))
+        unit_and_length_raw(map3(v, |c| c.0)).map(|(n, len)| (map3(n, Fixed32), Fixed32(len)))
     }
 
     /// `2^k` for the `k` that brings `self` into `[½, 1)`, with `k` clamped to
