@@ -632,6 +632,15 @@ fn square_raw_small(a: i32) -> i32 {
     }
 }
 
+/// `[f(x), f(y), f(z)]`, written out: `array::map` at opt-level `s` stays
+/// a call to a generic routine (about 70 instructions for three words on
+/// the Cortex-M0, twice per normalisation).
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+#[inline(always)]
+fn map3<T, U>([x, y, z]: [T; 3], mut f: impl FnMut(T) -> U) -> [U; 3] {
+    [f(x), f(y), f(z)]
+}
+
 /// The unit vector and length of the raw vector `c`, bit for bit what the
 /// general lane code gives (`Vec3xW::normalize_with_length`: the prescale
 /// by `2^k`, the sum of squares, one reciprocal root, four products, the
@@ -647,17 +656,9 @@ fn square_raw_small(a: i32) -> i32 {
 /// saturate and is positive, `1/√S ∈ [0.57, 2]`, and every product has
 /// operands below 4 ([`mul_raw_small`]). Only the length's scaling back by
 /// `2^−k` can saturate, and keeps its test.
-/// `[f(x), f(y), f(z)]`, written out: `array::map` at opt-level `s` stays
-/// a call to a generic routine (about 70 instructions for three words on
-/// the Cortex-M0, twice per normalisation).
-#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
-#[inline(always)]
-fn map3<T, U>([x, y, z]: [T; 3], mut f: impl FnMut(T) -> U) -> [U; 3] {
-    [f(x), f(y), f(z)]
-}
-
-// (Out of line with `compact-mul`, the image held to 48 KiB: inline at each
-// normalisation it took 0.9 KB more there.)
+///
+/// Out of line with `compact-mul` (the image held to 48 KiB): inline at
+/// each normalisation it took 1.9 KB more there.
 #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 #[cfg_attr(not(all(armv6m, not(armv6m_inline_mul))), inline(always))]
 #[cfg_attr(all(armv6m, not(armv6m_inline_mul)), inline(never))]
