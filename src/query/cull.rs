@@ -430,6 +430,15 @@ struct Occluder<S> {
 impl<S: Scalar> Occluder<S> {
     /// An unused entry.
     const NONE: Self = Occluder { dlo: Vec3::ZERO, dhi: Vec3::ZERO, axis: Vec3::ZERO, limit: S::MAX };
+
+    /// Whether some lane of `inside` (the lanes whose direction lies in the
+    /// box) has its direction in the cone: `d·axis <= limit`. (The lanes
+    /// inside the box have direction components within 1 + 2⁻¹²: products
+    /// of small factors, exact there; the other lanes' values are not used.)
+    #[inline(always)]
+    fn cone_holds<const W: usize>(&self, dir: &Vec3xW<S, W>, inside: Mask<W>) -> bool {
+        self.limit == S::MAX || (inside & dir.dot_splat_small(self.axis).le(Lanes::splat(self.limit))).any()
+    }
 }
 
 /// A set of entries of one light's occluder row: bit `e` for entry `e`
@@ -880,10 +889,7 @@ impl<S: Scalar> ShadowCull<S> {
             if inside.none() {
                 return false;
             }
-            // (The lanes inside the box have direction components within
-            // 1 + 2⁻¹²: products of small factors, exact there; the other
-            // lanes' values are not used.)
-            o.limit == S::MAX || (inside & dir.dot_splat_small(o.axis).le(Lanes::splat(o.limit))).any()
+            o.cone_holds(dir, inside)
         };
         if let (true, Some([cx, cy, cz])) = (cells_first, self.cells.get(light)) {
             // One ray: only the entries whose direction box can hold its
@@ -911,9 +917,7 @@ impl<S: Scalar> ShadowCull<S> {
             // comparisons scalar, so wider packets keep that form).
             for (o, &k) in row.iter().zip(index).take(n as usize) {
                 let inside = lit & dir.in_box(o.dlo, o.dhi);
-                if inside.any()
-                    && (o.limit == S::MAX || (inside & dir.dot_splat_small(o.axis).le(Lanes::splat(o.limit))).any())
-                {
+                if inside.any() && o.cone_holds(dir, inside) {
                     m |= 1 << k;
                 }
             }
