@@ -42,10 +42,9 @@ pub(crate) fn scale_of<S: Scalar>(shift: i32) -> S {
 /// (`scale` is [`scale_of`]`(shift)`; fixed point shifts instead).
 #[inline(always)]
 pub(crate) fn bin<S: Scalar>(v: S, origin: S, shift: i32, scale: S, n: usize) -> usize {
-    let x = v - origin;
-    // (A shift in fixed point, where a product is a routine.)
-    let x = if S::SPARSE_PRODUCTS { x.mul_pow2(shift) } else { x * scale };
-    x.floor_to_i32().clamp(0, n as i32 - 1) as usize
+    // (Each scalar's own form, [`Scalar::bin`]: in fixed point one
+    // subtraction and one shift.)
+    v.bin(origin, shift, scale, n)
 }
 
 #[cfg(test)]
@@ -73,6 +72,22 @@ mod tests {
             x += 0.0137;
         }
         assert!(prev >= 50, "{prev}");
+    }
+
+    #[test]
+    fn fixed_point_bins_are_the_exact_floor() {
+        let mut x = -5.0f64;
+        while x < 5.0 {
+            let v = Fixed32::from_f32(x as f32);
+            for (origin, shift) in [(-1.0f32, 3), (0.25, 0), (-0.75, -2), (0.0, 16), (-2.0, 24)] {
+                let o = Fixed32::from_f32(origin);
+                // Both raw values are exact multiples of 2⁻²⁴: the exact floor.
+                let exact = ((v.to_f32() as f64 - o.to_f32() as f64) * (shift as f64).exp2()).floor();
+                let want = exact.clamp(0.0, 255.0) as usize;
+                assert_eq!(bin(v, o, shift, scale_of::<Fixed32>(shift), 256), want, "{x} {origin} {shift}");
+            }
+            x += 0.00731;
+        }
     }
 
     #[test]

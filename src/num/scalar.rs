@@ -184,6 +184,20 @@ pub trait Scalar:
         self * f
     }
 
+    /// The bin of `self` among `n` over a window: `⌊(self − origin)·2^shift⌋`
+    /// clamped to `[0, n − 1]`, up to the rounding of the subtraction and of
+    /// the product, and non-decreasing in `self` (what [`crate::num::bins`]
+    /// needs: bins built from bounds with this same function hold every
+    /// value between them). `scale` is `2^shift` in `Self`. The default
+    /// rounds the product (a shift where [`Scalar::SPARSE_PRODUCTS`]
+    /// holds); fixed point shifts the raw difference, which floors exactly.
+    #[inline(always)]
+    fn bin(self, origin: Self, shift: i32, scale: Self, n: usize) -> usize {
+        let x = self - origin;
+        let x = if Self::SPARSE_PRODUCTS { x.mul_pow2(shift) } else { x * scale };
+        x.floor_to_i32().clamp(0, n as i32 - 1) as usize
+    }
+
     /// `num / den` for image coordinates (the camera's pixel centres:
     /// `(2i + 1)/W`), `den > 0`. The default divides the two numbers in the
     /// type, which is exact for `f32` and 32.32; a type whose range does
