@@ -49,9 +49,27 @@ pub const BLOCKED_EDGES: u32 = 2 * EDGE_BLOCKS as u32;
 #[inline(always)]
 fn crossing<S: Scalar, const W: usize>(pu: Lanes<S, W>, pv: Lanes<S, W>, a: (S, S), b: (S, S)) -> Mask<W> {
     let straddle = pv.lt(Lanes::splat(a.1)) ^ pv.lt(Lanes::splat(b.1));
-    let e = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
+    let e = edge_function(pu, pv, a, b);
     let right = if b.1 > a.1 { e.gt(Lanes::zero()) } else { e.lt(Lanes::zero()) };
     straddle & right
+}
+
+/// The edge function of the points `(pu, pv)` for the edge `a → b`:
+/// `(pv − a.v)·(b.u − a.u) − (pu − a.u)·(b.v − a.v)`, positive to the left
+/// of the edge. Where products may skip a zero factor
+/// ([`Scalar::SPARSE_PRODUCTS`]), an edge along an axis (a rectangle's,
+/// a wall's) forms only its other product, bit for bit the same: the
+/// skipped product is exactly zero, and `x − 0 = x`.
+#[inline(always)]
+fn edge_function<S: Scalar, const W: usize>(pu: Lanes<S, W>, pv: Lanes<S, W>, a: (S, S), b: (S, S)) -> Lanes<S, W> {
+    let (du, dv) = (b.0 - a.0, b.1 - a.1);
+    if S::SPARSE_PRODUCTS && du == S::ZERO {
+        Lanes::zero() - (pu - a.0) * dv
+    } else if S::SPARSE_PRODUCTS && dv == S::ZERO {
+        (pv - a.1) * du
+    } else {
+        (pv - a.1) * du - (pu - a.0) * dv
+    }
 }
 
 /// Whether polygons keep edge blocks and the kernel passes over them: on
@@ -426,7 +444,7 @@ impl<S: Scalar> Polygon<S> {
             let mut inside = r.hit0;
             for v in verts {
                 let b = (v.axis(iu as usize), v.axis(iv as usize));
-                let e = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
+                let e = edge_function(pu, pv, a, b);
                 inside &= if self.ccw { e.ge(Lanes::zero()) } else { e.le(Lanes::zero()) };
                 if inside.none() {
                     return Roots::none();
@@ -508,7 +526,7 @@ impl<S: Scalar> Polygon<S> {
                         continue;
                     }
                     let straddle = pv.lt(Lanes::splat(a.1)) ^ pv.lt(Lanes::splat(b.1));
-                    let e = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
+                    let e = edge_function(pu, pv, a, b);
                     let right = if b.1 > a.1 { e.gt(Lanes::zero()) } else { e.lt(Lanes::zero()) };
                     odd ^= straddle & right;
                     a = b;
@@ -745,6 +763,25 @@ mod tests {
             }
         }
         out
+    }
+
+    #[test]
+    fn axis_edges_skip_a_product_bit_for_bit() {
+        // Fixed point: the edge function of an edge along u or v, with its
+        // zero product left out, is the full expression, bit for bit.
+        let mut state = 0x5eed_ed9e_u64;
+        let mut rnd = || {
+            let r = (crate::num::test_rng::splitmix64(&mut state) >> 40) as f32 / (1u64 << 24) as f32;
+            Fixed32::from_f32(8.0 * r - 4.0)
+        };
+        for _ in 0..20_000 {
+            let (pu, pv) = (Lanes::<Fixed32, 4>([rnd(), rnd(), rnd(), rnd()]), Lanes([rnd(), rnd(), rnd(), rnd()]));
+            let (a, c) = ((rnd(), rnd()), rnd());
+            for b in [(a.0, c), (c, a.1), (a.0, a.1)] {
+                let full = (pv - a.1) * (b.0 - a.0) - (pu - a.0) * (b.1 - a.1);
+                assert_eq!(edge_function(pu, pv, a, b).0, full.0, "{a:?} → {b:?}");
+            }
+        }
     }
 
     #[test]
