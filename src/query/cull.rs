@@ -830,7 +830,7 @@ impl<S: Scalar> ShadowCull<S> {
         eps: Lanes<S, W>,
         lit: Mask<W>,
     ) -> Candidates {
-        if apart::<W>() {
+        if apart::<S, W>() {
             self.candidates_apart(light, origin, dir, eps, lit)
         } else {
             self.candidates_here(light, origin, dir, eps, lit, use_cells::<W>())
@@ -951,7 +951,7 @@ impl<S: Scalar> ShadowCull<S> {
     /// directions, `t > 0`) in the lanes `active` can reach.
     #[inline(always)]
     pub fn reach_candidates<const W: usize>(&self, ray: &RayPacket<S, W>, active: Mask<W>) -> Candidates {
-        if apart::<W>() {
+        if apart::<S, W>() {
             self.reach_apart(ray, active)
         } else {
             self.reach_here(ray, active)
@@ -993,8 +993,8 @@ impl<S: Scalar> ShadowCull<S> {
             // sign.)
             let (r, nr) = (Lanes::splat(e.r), Lanes::splat(-e.r));
             let away = |c: Lanes<S, W>, dc: Lanes<S, W>| (c.gt(r) & dc.le(zero)) | (c.lt(nr) & dc.ge(zero));
-            let active = if apart::<W>() {
-                // One ray, out of line: axis by axis, each ending the entry
+            let active = if W == 1 && !cfg!(any(target_arch = "x86", target_arch = "x86_64")) {
+                // One ray (not on x86): axis by axis, each ending the entry
                 // early (all six tests at once kept every comparison's
                 // result in a register or on the stack: about 80
                 // instructions per entry on the Cortex-M0).
@@ -1041,15 +1041,19 @@ impl<S: Scalar> ShadowCull<S> {
     }
 }
 
-/// Whether [`ShadowCull`]'s per-packet tests run out of line at packet
-/// width `W`: at width 1 on every target but x86. There the tracer's
-/// stack frame stays smaller (the Cortex-M0 test image has 16 KiB of RAM)
-/// and the width-1 frame retires fewer instructions (Cortex-M55: 62.9 M
-/// against 64.0 M in `f32`, 129.2 M against 141.6 M in `fixed32`); wider
+/// Whether [`ShadowCull`]'s per-packet tests run out of line for scalar
+/// `S` at packet width `W`: at width 1 on every target but x86, except
+/// fixed point on Armv6-M. Out of line the tracer's stack frame stays
+/// smaller and the width-1 frame retires fewer instructions (Cortex-M55:
+/// 62.9 M against 64.0 M in `f32`, 129.2 M against 141.6 M in `fixed32`;
+/// the Cortex-M0's soft-float `f32` 860.1 M against 862.6 M); wider
 /// packets on the Cortex-M55 gain from the tests inline (width 4: 43.6 M
-/// against 48.8 M), and x86 keeps everything inline.
-const fn apart<const W: usize>() -> bool {
-    W == 1 && !cfg!(any(target_arch = "x86", target_arch = "x86_64"))
+/// against 48.8 M), and so does the Cortex-M0's `fixed32` frame (183.6 M
+/// against 184.9 M, the test image's stack 7 328 bytes against 7 256).
+/// x86 keeps everything inline.
+const fn apart<S: Scalar, const W: usize>() -> bool {
+    let x86 = cfg!(any(target_arch = "x86", target_arch = "x86_64"));
+    W == 1 && !x86 && !(cfg!(armv6m) && S::SPARSE_PRODUCTS)
 }
 
 /// Whether [`ShadowCull`]'s shadow-ray test starts from the direction
