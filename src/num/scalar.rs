@@ -186,8 +186,8 @@ pub trait Scalar:
 
     /// The bin of `self` among `n` over a window: `⌊(self − origin)·2^shift⌋`
     /// clamped to `[0, n − 1]`, up to the rounding of the subtraction and of
-    /// the product, and non-decreasing in `self` (what [`crate::num::bins`]
-    /// needs: bins built from bounds with this same function hold every
+    /// the product, and non-decreasing in `self` (what the crate's bins over a
+    /// window need: bins built from bounds with this same function hold every
     /// value between them). `scale` is `2^shift` in `Self`. The default
     /// rounds the product (a shift where [`Scalar::SPARSE_PRODUCTS`]
     /// holds); fixed point shifts the raw difference, which floors exactly.
