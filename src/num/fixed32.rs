@@ -1067,9 +1067,8 @@ fn rsqrt_raw(a: u32) -> u32 {
 #[inline(never)]
 #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 fn rsqrt_raw_unit(a: u32) -> u32 {
-    let below = a < 1 << 24;
-    let z = if below { 8 } else { 6 };
-    let sh = if below { 6 } else { 7 };
+    let z = if a < 1 << 24 { 8 } else { 6 };
+    let sh = 10 - z / 2;
     rsqrt_scaled(a, z).wrapping_add(1 << (sh - 1)) >> sh
 }
 
@@ -1661,11 +1660,10 @@ impl Scalar for Fixed32 {
     /// then floors: about 40 instructions a bin on the Cortex-M0, this one
     /// about 10.) Shifts past `FRAC` take the general form.
     #[inline(always)]
-    fn bin(self, origin: Self, shift: i32, _scale: Self, n: usize) -> usize {
+    fn bin(self, origin: Self, shift: i32, scale: Self, n: usize) -> usize {
         let k = FRAC as i32 - shift;
         if k < 0 {
-            let x = (self - origin).mul_pow2(shift);
-            return x.floor_to_i32().clamp(0, n as i32 - 1) as usize;
+            return crate::num::scalar::bin_rounded(self - origin, shift, scale, n);
         }
         let x = self.0.saturating_sub(origin.0) >> (k as u32).min(31);
         x.clamp(0, n as i32 - 1) as usize

@@ -17,6 +17,16 @@
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
+/// [`Scalar::bin`]'s general form for the difference `x = self − origin`:
+/// `⌊x·2^shift⌋` with the product rounded (a shift where
+/// [`Scalar::SPARSE_PRODUCTS`] holds, `x · scale` otherwise), clamped to
+/// `[0, n − 1]`.
+#[inline(always)]
+pub(crate) fn bin_rounded<S: Scalar>(x: S, shift: i32, scale: S, n: usize) -> usize {
+    let x = if S::SPARSE_PRODUCTS { x.mul_pow2(shift) } else { x * scale };
+    x.floor_to_i32().clamp(0, n as i32 - 1) as usize
+}
+
 /// A real-number type the tracer computes with.
 ///
 /// Implementations must be total: no operation may panic, whatever the
@@ -193,9 +203,7 @@ pub trait Scalar:
     /// holds); fixed point shifts the raw difference, which floors exactly.
     #[inline(always)]
     fn bin(self, origin: Self, shift: i32, scale: Self, n: usize) -> usize {
-        let x = self - origin;
-        let x = if Self::SPARSE_PRODUCTS { x.mul_pow2(shift) } else { x * scale };
-        x.floor_to_i32().clamp(0, n as i32 - 1) as usize
+        bin_rounded(self - origin, shift, scale, n)
     }
 
     /// `num / den` for image coordinates (the camera's pixel centres:

@@ -993,7 +993,7 @@ impl<S: Scalar> ShadowCull<S> {
             // sign.)
             let (r, nr) = (Lanes::splat(e.r), Lanes::splat(-e.r));
             let away = |c: Lanes<S, W>, dc: Lanes<S, W>| (c.gt(r) & dc.le(zero)) | (c.lt(nr) & dc.ge(zero));
-            let active = if W == 1 && !cfg!(any(target_arch = "x86", target_arch = "x86_64")) {
+            let active = if one_ray_off_x86::<W>() {
                 // One ray (not on x86): axis by axis, each ending the entry
                 // early (all six tests at once kept every comparison's
                 // result in a register or on the stack: about 80
@@ -1052,8 +1052,15 @@ impl<S: Scalar> ShadowCull<S> {
 /// against 184.9 M, the test image's stack 7 328 bytes against 7 256).
 /// x86 keeps everything inline.
 const fn apart<S: Scalar, const W: usize>() -> bool {
-    let x86 = cfg!(any(target_arch = "x86", target_arch = "x86_64"));
-    W == 1 && !x86 && !(cfg!(armv6m) && S::SPARSE_PRODUCTS)
+    one_ray_off_x86::<W>() && !(cfg!(armv6m) && S::SPARSE_PRODUCTS)
+}
+
+/// A packet of one ray on a target other than x86: where [`ShadowCull`]'s
+/// tests take their single-ray forms (out of line, from the direction
+/// cells, axis by axis), which x86, with the tests inline in the tracer,
+/// measured slower.
+const fn one_ray_off_x86<const W: usize>() -> bool {
+    W == 1 && !cfg!(any(target_arch = "x86", target_arch = "x86_64"))
 }
 
 /// Whether [`ShadowCull`]'s shadow-ray test starts from the direction
@@ -1066,7 +1073,7 @@ const fn apart<S: Scalar, const W: usize>() -> bool {
 ///
 /// Nor on WebAssembly, where there are none ([`CELL_LIGHTS`]).
 const fn use_cells<const W: usize>() -> bool {
-    W == 1 && CELL_LIGHTS > 0 && !cfg!(any(target_arch = "x86", target_arch = "x86_64"))
+    one_ray_off_x86::<W>() && CELL_LIGHTS > 0
 }
 
 /// The cone and the box of directions from the light `l` reaching the box
