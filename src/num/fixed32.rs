@@ -1067,8 +1067,11 @@ fn rsqrt_raw(a: u32) -> u32 {
 #[inline(never)]
 #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 fn rsqrt_raw_unit(a: u32) -> u32 {
-    let z = if a < 1 << 24 { 8 } else { 6 };
-    let sh = 10 - z / 2;
+    // (`sh = 10 − z/2`, chosen with `z` rather than computed from it: the
+    // Cortex-M0 frame about 49 000 instructions shorter.)
+    let below = a < 1 << 24;
+    let z = if below { 8 } else { 6 };
+    let sh = if below { 6 } else { 7 };
     rsqrt_scaled(a, z).wrapping_add(1 << (sh - 1)) >> sh
 }
 
