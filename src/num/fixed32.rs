@@ -13,9 +13,11 @@
 //!   the format; 16 ≤ `FRAC` ≤ 26 is asserted at compile time).
 //! - Resolution: one unit in the last place is `2⁻²⁴ ≈ 5.96·10⁻⁸` (`f32`
 //!   near 1 has `2⁻²³`, near 2 has `2⁻²²`: Q8.24 is finer inside the box).
-//! - Representable range: `[−MAX, MAX]` with `MAX = 2⁷ − 2⁻²⁴ ≈ 127.99999994`
-//!   (raw `±i32::MAX`; the raw value `i32::MIN` is never produced, so negation
-//!   and `abs` are exact).
+//! - Representable range: `[−2⁷, MAX]` with `MAX = 2⁷ − 2⁻²⁴ ≈ 127.99999994`
+//!   (raw `i32::MIN ..= i32::MAX`). Only sums and differences reach the
+//!   bottom value `−2⁷` (raw `i32::MIN`); every other operation saturates
+//!   symmetrically, to `±MAX`, so negation and `abs` are exact except on
+//!   `−2⁷`, which they take to `MAX`.
 //! - The box rule: a scene must lie in the box `|x|, |y|, |z| ≤`
 //!   [`COORDINATE_LIMIT`] `= 2` (scenes are normalised into it at load time).
 //!   A difference of two points then has components up to `4` and a squared
@@ -27,7 +29,12 @@
 //!   saturates to `MAX ≈ 128` (see [`Scalar::powf`] below).
 //!
 //! # Arithmetic (all total: nothing here can panic, in debug or release)
-//! - `+`, `−`, negation: exact, saturating to `±MAX`.
+//! - `+`, `−`: two's-complement saturating arithmetic (`i32::saturating_add`):
+//!   exact whenever the result fits, else `−2⁷` or `MAX`. Why not `±MAX`:
+//!   keeping `i32::MIN` out took a compare with a constant after every sum
+//!   (three instructions a sum on the Cortex-M0, where the overflow test
+//!   itself is one branch on the V flag).
+//! - Negation: exact, saturating (`−(−2⁷)` is `MAX`).
 //! - `×`: the exact 32×32→64 product, rounded to nearest with ties towards
 //!   +∞ (`⌊(a·b + 2²³)/2²⁴⌋`, the rule of [`crate::num::fixed64::Fixed`]),
 //!   saturating. Three implementations give the same bits: an `i64` product
@@ -177,10 +184,10 @@ pub struct Fixed32(i32);
 
 impl Fixed32 {
     /// The number whose raw two's-complement bits are `raw` (value
-    /// `raw·2^−FRAC`); `i32::MIN` becomes `−MAX`.
+    /// `raw·2^−FRAC`).
     #[inline]
     pub const fn from_bits(raw: i32) -> Self {
-        Fixed32(if raw == i32::MIN { RAW_MIN } else { raw })
+        Fixed32(raw)
     }
     /// The raw bits (value `raw·2^−FRAC`).
     #[inline]
@@ -231,7 +238,9 @@ impl Fixed32 {
 impl core::fmt::Display for Fixed32 {
     /// The shortest decimal that reads back (rounded to nearest) as the same
     /// number, e.g. `0.1` for raw 1677722, `-2.5`, `127.99999994`; integers
-    /// print without a point. Computed with integer arithmetic only.
+    /// print without a point (`-128` for the bottom value, which reads back
+    /// as `−MAX`: conversions saturate symmetrically). Computed with integer
+    /// arithmetic only.
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let mag = self.0.unsigned_abs();
         let (int, frac) = (mag >> FRAC, (mag & (RAW_ONE as u32 - 1)) as u64);
@@ -1304,32 +1313,28 @@ const fn raw_from_f32(v: f32) -> i32 {
 // ---------------------------------------------------------------------------
 // Operators.
 
-// The sum and the difference saturate to `[−MAX, MAX]`. The wrapped
-// result is that whenever the operation did not overflow and is not
-// `i32::MIN` (`−MAX − 1`, reachable without overflow): a flag test and a
-// compare, the rare rest out of line. Formed as `saturating_add` and a
-// clamp to `−MAX`, the common case took a constant load and a compare more
-// on Armv6-M (`s << 1 == 0 && s != 0` is `s == i32::MIN`; written so, the
-// Cortex-M0 frame retired 0.1 % fewer instructions than with `==`). Only
-// there, and not with `compact-mul`: the out-of-line calls made the
-// size-optimised `fixed32` image 3.2 KB larger and no faster, and on
-// RV32IMAC (no flags) the test image larger and slower.
+// The sum and the difference are `i32`'s saturating ones. On Armv6-M with
+// the product inline, written as the wrapped result unless the V flag is
+// set (one branch), the rare rest out of line: `saturating_add` there
+// forms its saturated value branch-free after every sum. Only there, and
+// not with `compact-mul`: the out-of-line calls made the size-optimised
+// `fixed32` image larger and no faster, and on RV32IMAC (no flags) the
+// test image larger and slower.
 
-/// The saturated sum's rare cases (overflow, `i32::MIN`).
+/// The saturated sum's rare case (overflow).
 #[cfg_attr(not(armv6m_inline_mul), allow(dead_code))]
 #[cold]
 #[inline(never)]
 fn add_rare(a: i32, b: i32) -> i32 {
-    // saturating_add may give i32::MIN; −MAX is the bottom of the range.
-    a.saturating_add(b).max(RAW_MIN)
+    a.saturating_add(b)
 }
 
-/// The saturated difference's rare cases (overflow, `i32::MIN`).
+/// The saturated difference's rare case (overflow).
 #[cfg_attr(not(armv6m_inline_mul), allow(dead_code))]
 #[cold]
 #[inline(never)]
 fn sub_rare(a: i32, b: i32) -> i32 {
-    a.saturating_sub(b).max(RAW_MIN)
+    a.saturating_sub(b)
 }
 
 impl Add for Fixed32 {
@@ -1339,14 +1344,14 @@ impl Add for Fixed32 {
         #[cfg(armv6m_inline_mul)]
         {
             let (s, v) = self.0.overflowing_add(o.0);
-            if v || (s.wrapping_shl(1) == 0 && s != 0) {
+            if v {
                 return Fixed32(add_rare(self.0, o.0));
             }
             Fixed32(s)
         }
         #[cfg(not(armv6m_inline_mul))]
         {
-            Fixed32(self.0.saturating_add(o.0).max(RAW_MIN))
+            Fixed32(self.0.saturating_add(o.0))
         }
     }
 }
@@ -1358,14 +1363,14 @@ impl Sub for Fixed32 {
         #[cfg(armv6m_inline_mul)]
         {
             let (s, v) = self.0.overflowing_sub(o.0);
-            if v || (s.wrapping_shl(1) == 0 && s != 0) {
+            if v {
                 return Fixed32(sub_rare(self.0, o.0));
             }
             Fixed32(s)
         }
         #[cfg(not(armv6m_inline_mul))]
         {
-            Fixed32(self.0.saturating_sub(o.0).max(RAW_MIN))
+            Fixed32(self.0.saturating_sub(o.0))
         }
     }
 }
@@ -1374,8 +1379,8 @@ impl Neg for Fixed32 {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
-        // Raw values lie in [−MAX, MAX], so this is exact; saturating keeps
-        // it total anyway.
+        // Exact, except on the bottom value −2⁷ (raw `i32::MIN`), whose
+        // negation saturates to MAX.
         Fixed32(self.0.saturating_neg())
     }
 }
@@ -1939,7 +1944,8 @@ mod tests {
         assert_eq!(fx(-1.5).floor_to_i32(), -2);
         assert_eq!(Fixed32::from_bits(-1).floor_to_i32(), -1);
         assert_eq!(Fixed32::MAX.floor_to_i32(), RAW_MAX >> FRAC);
-        assert_eq!(Fixed32::from_bits(i32::MIN).to_bits(), RAW_MIN);
+        assert_eq!(Fixed32::from_bits(i32::MIN).to_bits(), i32::MIN);
+        assert_eq!(Fixed32::from_bits(i32::MIN).floor_to_i32(), -128);
         assert!(Fixed32::MAX.is_finite());
     }
 
@@ -2283,17 +2289,28 @@ mod tests {
         assert_eq!(fx(1.5) + fx(2.25), fx(3.75));
         assert_eq!(fx(1.5) - fx(2.25), fx(-0.75));
         assert_eq!(Fixed32::MAX + Fixed32::ONE, Fixed32::MAX);
-        assert_eq!(-Fixed32::MAX - Fixed32::ONE, -Fixed32::MAX);
-        assert_eq!(-Fixed32::MAX - Fixed32::MAX, -Fixed32::MAX);
         assert_eq!(Fixed32::MAX - -Fixed32::MAX, Fixed32::MAX);
         assert_eq!((-Fixed32::MAX).to_bits(), RAW_MIN);
         assert_eq!((-Fixed32::MAX).abs(), Fixed32::MAX);
+        // Sums and differences reach the bottom value −2⁷ (raw i32::MIN)
+        // and saturate there; negation and abs take it to MAX.
+        let bottom = Fixed32::from_bits(i32::MIN);
+        assert_eq!(-Fixed32::MAX - Fixed32::from_bits(1), bottom);
+        assert_eq!(-Fixed32::MAX - Fixed32::ONE, bottom);
+        assert_eq!(-Fixed32::MAX - Fixed32::MAX, bottom);
+        assert_eq!(-Fixed32::MAX + -Fixed32::from_bits(1), bottom);
+        assert_eq!(bottom + Fixed32::from_bits(1), -Fixed32::MAX);
+        assert_eq!(-bottom, Fixed32::MAX);
+        assert_eq!(bottom.abs(), Fixed32::MAX);
+        assert!(bottom < -Fixed32::MAX);
+        // i32's saturating sum and difference of the exact values.
+        let sat = |v: i128| v.clamp(i32::MIN as i128, i32::MAX as i128) as i32;
         let mut rng = Rng(77);
         for _ in 0..1_000_000 {
             let (a, b) = (Fixed32::from_bits(rng.raw()), Fixed32::from_bits(rng.raw()));
             let (ea, eb) = (a.to_bits() as i128, b.to_bits() as i128);
-            assert_eq!((a + b).to_bits(), clamp(ea + eb));
-            assert_eq!((a - b).to_bits(), clamp(ea - eb));
+            assert_eq!((a + b).to_bits(), sat(ea + eb));
+            assert_eq!((a - b).to_bits(), sat(ea - eb));
             assert_eq!((-a).to_bits(), clamp(-ea));
             assert_eq!(a.abs().to_bits(), clamp(ea.abs()));
             assert_eq!(a < b, ea < eb);
@@ -2619,6 +2636,11 @@ mod tests {
             let x = Fixed32::from_bits(rng.raw());
             let s = format!("{x}");
             let back: f64 = s.parse().unwrap();
+            if x.to_bits() == i32::MIN {
+                // −2⁷, which only sums reach: conversions saturate at −MAX.
+                assert_eq!((s.as_str(), Fixed32::from_f64(back)), ("-128", -Fixed32::MAX));
+                continue;
+            }
             assert_eq!(Fixed32::from_f64(back), x, "{s}");
             // Shortest: one digit fewer does not round-trip.
             if let Some(dot) = s.find('.') {
