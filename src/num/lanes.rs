@@ -177,9 +177,9 @@ impl<const W: usize> Not for Mask<W> {
     type Output = Self;
     #[inline(always)]
     fn not(self) -> Self {
-        let mut r = self.0;
+        let mut r = [0; W];
         for i in 0..W {
-            r[i] = !r[i];
+            r[i] = !self.0[i];
         }
         Mask(r)
     }
