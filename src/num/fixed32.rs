@@ -434,7 +434,7 @@ fn mul16x32(w: u32, d: u32) -> u64 {
 // The two 32-bit forms have a range test that is one compare for every
 // product below about 2^(30−FRAC) in magnitude (64 for Q8.24: all a scene
 // in the coordinate box normally forms), and the exact clamp out of line
-// for the rest: [`round_words`] on the rounded product's two words, and
+// for the rest: [`round_words`] on the exact product's two words, and
 // the limbs' test of their high partial product.
 
 /// The portable product (64-bit hosts and WebAssembly): one exact `i64` product
@@ -453,49 +453,66 @@ fn mul_raw_native(a: i32, b: i32) -> i32 {
     }
 }
 
-/// The result from the words of `V = a·b + 2^(FRAC−1)` (`hi` signed, `lo`
-/// unsigned): `V >> FRAC`, clamped. When `hi` lies in `[−2^(FRAC−2),
-/// 2^(FRAC−2))`, `|V >> FRAC| < 2³⁰` fits and is neither `i32::MIN` nor past
-/// `MAX`, so the result is the bits `hi·2^(32−FRAC) | lo >> FRAC`: the test
-/// is that `hi` shifted right by `FRAC − 2` is its own sign. Larger products
-/// take [`clamp_words`].
+/// The rounded product from the words of the exact product `p = a·b`
+/// (`hi` signed, `lo` unsigned): `⌊(p + 2^(FRAC−1)) / 2^FRAC⌋`, clamped.
+///
+/// `h = ⌊p / 2^(FRAC−1)⌋` is `hi·2^(33−FRAC) | lo >> (FRAC − 1)` when it fits
+/// 32 bits, that is when `hi` lies in `[−2^(FRAC−2), 2^(FRAC−2))`; the test
+/// is that `h` shifted back right gives `hi` again. Then the result is
+/// `⌊(h + 1)/2⌋ = h − ⌊h/2⌋` (`⌈h/2⌉`: no sum that could overflow, and no
+/// carry of half an ulp through the low word), of magnitude at most 2³⁰,
+/// inside the clamp. Larger products take [`clamp_words`].
+///
+/// Why this form: on RV32IMAC it is `mul`, `mulh` and seven instructions;
+/// adding half an ulp to the low word first, with its carry into the high
+/// one, took eleven.
 #[inline(always)]
 #[cfg_attr(wide_mul, allow(dead_code))]
 fn round_words(hi: i32, lo: u32) -> i32 {
-    if hi >> (FRAC - 2) != hi >> 31 {
+    let h = (hi << (33 - FRAC)) | (lo >> (FRAC - 1)) as i32;
+    if h >> (33 - FRAC) != hi {
         return clamp_words(hi, lo);
     }
-    (hi << (32 - FRAC)) | (lo >> FRAC) as i32
+    h.wrapping_sub(h >> 1)
 }
 
 /// [`round_words`] for products of magnitude `2^(30−FRAC)` and up (rare:
-/// out of line). `V >> FRAC` fits 32 bits iff `hi`'s bits from `FRAC − 1`
-/// up are all copies of the result's sign bit; it is then the low word `r`,
-/// which is in range unless it is `i32::MIN` (then `−MAX`, like every
-/// negative result past the range).
+/// out of line): the exact `i64` product rebuilt from its words, rounded
+/// and clamped as [`mul_raw_native`] does.
 #[cold]
 #[inline(never)]
 #[cfg_attr(wide_mul, allow(dead_code))]
 fn clamp_words(hi: i32, lo: u32) -> i32 {
-    let r = (hi << (32 - FRAC)) | (lo >> FRAC) as i32;
-    if hi >> (FRAC - 1) == r >> 31 && r != i32::MIN {
-        r
-    } else if hi < 0 {
+    let p = ((hi as i64) << 32) | lo as i64;
+    // |p| ≤ 2⁶²: adding half an ulp cannot overflow.
+    let r = (p + HALF_ULP) >> FRAC;
+    if r > RAW_MAX as i64 {
+        RAW_MAX
+    } else if r < RAW_MIN as i64 {
         RAW_MIN
     } else {
-        RAW_MAX
+        r as i32
     }
 }
 
 /// The product on 32-bit targets with a 32×32→64 multiply: the `i64`
-/// product's two words (`mulh`/`mul` or `smull`), half an ulp added to the
-/// low word with its carry into the high one, then [`round_words`].
+/// product's two words (`mulh`/`mul` or `smull`), then [`round_words`].
 #[inline(always)]
 #[cfg_attr(any(wide_mul, armv6m), allow(dead_code))]
 fn mul_raw_words(a: i32, b: i32) -> i32 {
     let p = a as i64 * b as i64;
-    let (lo, carry) = (p as u32).overflowing_add(HALF_ULP as u32);
-    round_words(((p >> 32) as i32).wrapping_add(carry as i32), lo)
+    round_words((p >> 32) as i32, p as u32)
+}
+
+/// [`round_words`] without its range test, for products below
+/// `2^(30−FRAC)` in magnitude ([`mul_raw_small`] and [`square_raw_small`]
+/// on 32-bit targets with a long multiply): the same bits there, and some
+/// value (no panic) beyond.
+#[inline(always)]
+#[cfg_attr(any(wide_mul, armv6m), allow(dead_code))]
+fn round_words_small(p: i64) -> i32 {
+    let h = (((p >> 32) as i32) << (33 - FRAC)) | ((p as u32) >> (FRAC - 1)) as i32;
+    h.wrapping_sub(h >> 1)
 }
 
 /// The product on Armv6-M, from signed 16-bit limbs: `a = aₕ·2¹⁶ + aₗ` with
@@ -600,9 +617,13 @@ fn mul_raw_small(a: i32, b: i32) -> i32 {
     {
         mul_limbs_small(a, b)
     }
-    #[cfg(not(armv6m))]
+    #[cfg(wide_mul)]
     {
         ((a as i64 * b as i64 + HALF_ULP) >> FRAC) as i32
+    }
+    #[cfg(not(any(armv6m, wide_mul)))]
+    {
+        round_words_small(a as i64 * b as i64)
     }
 }
 
@@ -638,9 +659,13 @@ fn square_raw_small(a: i32) -> i32 {
         let ah = a >> 16;
         square_limbs_fast(a, ah.wrapping_mul(ah))
     }
-    #[cfg(not(armv6m))]
+    #[cfg(wide_mul)]
     {
         ((a as i64 * a as i64 + HALF_ULP) >> FRAC) as i32
+    }
+    #[cfg(not(any(armv6m, wide_mul)))]
+    {
+        round_words_small(a as i64 * a as i64)
     }
 }
 
@@ -2069,6 +2094,26 @@ mod tests {
         assert_eq!(mul_raw_limbs(a, b), want, "{a} * {b} (limbs)");
     }
 
+    /// Products at the two-word form's range test (`|a·b|` about
+    /// `2^(54)`, a result about ±64, where it hands over to the exact clamp),
+    /// and where `⌊p/2²³⌋` reaches `i32`'s ends, give the exact product.
+    #[test]
+    fn word_products_at_their_range_test_are_exact() {
+        let mut rng = Rng(0x2054);
+        for _ in 0..200_000 {
+            let a = (rng.u32() >> (rng.u32() % 16)) as i32 | 1;
+            for target in [1i64 << 54, (1i64 << 54) - (1 << 23), 1i64 << 53] {
+                let b = (target / a as i64) as i32;
+                for k in -2..=2 {
+                    let b = b.saturating_add(k);
+                    for (a, b) in [(a, b), (-a, b), (a, -b), (-a, -b)] {
+                        check_mul(a, b);
+                    }
+                }
+            }
+        }
+    }
+
     /// The Armv6-M product, the two-word one and the portable one give the
     /// same bits, and all match the exact product rounded half up, on edge
     /// cases and millions of seeded pairs (including i32::MIN raws, which
@@ -2184,7 +2229,8 @@ mod tests {
 
     /// The products without range tests equal the product for operands
     /// at most 4 in magnitude, the bound itself included: the Armv6-M limbs
-    /// (tested here on the host) and the portable form.
+    /// and the 32-bit targets' words (both tested here on the host), and
+    /// the portable form.
     #[test]
     fn small_products_are_the_product_up_to_four() {
         let mut rng = Rng(0x5A11);
@@ -2204,8 +2250,10 @@ mod tests {
             for (a, b) in [(a, b), (a, edges[(b & 7) as usize + 4])] {
                 let want = mul_reference(a, b);
                 assert_eq!(mul_limbs_small(a, b), want, "{a} * {b} (limbs)");
+                assert_eq!(round_words_small(a as i64 * b as i64), want, "{a} * {b} (words)");
                 assert_eq!(mul_raw_small(a, b), want, "{a} * {b}");
             }
+            assert_eq!(round_words_small(a as i64 * a as i64), mul_reference(a, a), "{a}² (words)");
             assert_eq!(square_limbs_fast(a, (a >> 16) * (a >> 16)), mul_reference(a, a), "{a}² (limbs)");
             assert_eq!(square_raw_small(a), mul_reference(a, a), "{a}²");
         }
