@@ -56,10 +56,11 @@ fn crossing<S: Scalar, const W: usize>(pu: Lanes<S, W>, pv: Lanes<S, W>, a: (S, 
 
 /// Whether the polygon kernel leaves out an axis edge's zero product
 /// ([`edge_function`]): on Armv6-M, where a `fixed32` product is a routine
-/// of about 22 instructions (the Cortex-M0 demo frame 0.4 % shorter).
-/// Elsewhere a product is an instruction or two, and the branches cost
-/// flash (RV32IMAC's test image 1.5 KB more, past its 128 KiB).
-const SKIP_AXIS_PRODUCTS: bool = cfg!(armv6m);
+/// of about 22 instructions (the Cortex-M0 demo frame 0.4 % shorter), and
+/// on RV32, where it is `mul`, `mulh` and seven (the RV32IMAC `fixed32`
+/// demo frame 0.7 % shorter, for 1.5 KB of flash). Elsewhere a product is
+/// an instruction or a few, and the branches cost more than they save.
+const SKIP_AXIS_PRODUCTS: bool = cfg!(any(armv6m, target_arch = "riscv32"));
 
 /// The edge function of the points `(pu, pv)` for the edge `a → b`:
 /// `(pv − a.v)·(b.u − a.u) − (pu − a.u)·(b.v − a.v)`, positive to the left
