@@ -350,30 +350,36 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// for bit, and an axis-aligned `v` costs one product, not three.
     #[inline(always)]
     pub fn dot_splat(self, v: Vec3<S>) -> Lanes<S, W> {
-        self.dot_splat_by(v, |a, b| a * b)
+        self.dot_splat_by(v, |a, b| a * b, |a, b| a + b)
     }
     /// [`Vec3xW::dot_splat`] of vectors whose components are at most 4 in
-    /// magnitude (unit vectors), by [`Scalar::mul_small`]: the same bits.
+    /// magnitude (unit vectors), by [`Scalar::mul_small`] and
+    /// [`Scalar::add_small`] (three products of at most 16): the same bits.
     #[inline(always)]
     pub fn dot_splat_small(self, v: Vec3<S>) -> Lanes<S, W> {
-        self.dot_splat_by(v, Lanes::mul_small)
+        self.dot_splat_by(v, Lanes::mul_small, Lanes::add_small)
     }
-    /// [`Vec3xW::dot_splat`] with the lane product `mul`.
+    /// [`Vec3xW::dot_splat`] with the lane product `mul` and sum `add`.
     #[inline(always)]
-    fn dot_splat_by(self, v: Vec3<S>, mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>) -> Lanes<S, W> {
+    fn dot_splat_by(
+        self,
+        v: Vec3<S>,
+        mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>,
+        add: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>,
+    ) -> Lanes<S, W> {
         let m = |a: Lanes<S, W>, b: S| mul(a, Lanes::splat(b));
         if S::SPARSE_PRODUCTS {
             // Left to right, as `x·vx + y·vy + z·vz` adds (`0 + p = p`).
             let mut sum = if v.x != S::ZERO { m(self.x, v.x) } else { Lanes::zero() };
             if v.y != S::ZERO {
-                sum = sum + m(self.y, v.y);
+                sum = add(sum, m(self.y, v.y));
             }
             if v.z != S::ZERO {
-                sum = sum + m(self.z, v.z);
+                sum = add(sum, m(self.z, v.z));
             }
             sum
         } else {
-            m(self.x, v.x) + m(self.y, v.y) + m(self.z, v.z)
+            add(add(m(self.x, v.x), m(self.y, v.y)), m(self.z, v.z))
         }
     }
     /// [`Vec3::dot`] lane by lane, leaving out (where
@@ -384,32 +390,44 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// instead of a product.
     #[inline(always)]
     pub fn dot_sparse(self, o: Self) -> Lanes<S, W> {
-        self.dot_sparse_by(o, |a, b| a * b)
+        self.dot_sparse_by(o, |a, b| a * b, |a, b| a + b)
     }
     /// [`Vec3xW::dot_sparse`] of vectors whose components are at most 4 in
-    /// magnitude (unit vectors), by [`Scalar::mul_small`]: the same bits.
+    /// magnitude (unit vectors), by [`Scalar::mul_small`] and
+    /// [`Scalar::add_small`]: the same bits.
     #[inline(always)]
     pub fn dot_sparse_small(self, o: Self) -> Lanes<S, W> {
-        self.dot_sparse_by(o, Lanes::mul_small)
+        self.dot_sparse_by(o, Lanes::mul_small, Lanes::add_small)
     }
-    /// [`Vec3xW::dot_sparse`] with the lane product `mul`.
+    /// [`Vec3xW::dot_sparse`] with the lane product `mul` and sum `add`.
     #[inline(always)]
-    fn dot_sparse_by(self, o: Self, mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>) -> Lanes<S, W> {
+    fn dot_sparse_by(
+        self,
+        o: Self,
+        mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>,
+        add: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>,
+    ) -> Lanes<S, W> {
         if S::SPARSE_PRODUCTS {
             let zero = Lanes::zero();
             let (zx, zy, zz) = (self.x.eq_lanes(zero).all(), self.y.eq_lanes(zero).all(), self.z.eq_lanes(zero).all());
             // Left to right, as `dot` adds.
             let mut sum = if zx { zero } else { mul(self.x, o.x) };
             if !zy {
-                sum = sum + mul(self.y, o.y);
+                sum = add(sum, mul(self.y, o.y));
             }
             if !zz {
-                sum = sum + mul(self.z, o.z);
+                sum = add(sum, mul(self.z, o.z));
             }
             sum
         } else {
-            mul(self.x, o.x) + mul(self.y, o.y) + mul(self.z, o.z)
+            add(add(mul(self.x, o.x), mul(self.y, o.y)), mul(self.z, o.z))
         }
+    }
+    /// `-self` for vectors whose components are at most 4 in magnitude
+    /// (unit vectors), by [`Scalar::neg_small`]: the same bits.
+    #[inline(always)]
+    pub fn neg_small(self) -> Self {
+        Vec3::new(self.x.neg_small(), self.y.neg_small(), self.z.neg_small())
     }
     /// [`Vec3::scale`] lane by lane, a component that is zero in every lane
     /// staying zero without its products where [`Scalar::SPARSE_PRODUCTS`]

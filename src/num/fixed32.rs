@@ -1539,6 +1539,19 @@ impl Scalar for Fixed32 {
     fn square_small(self) -> Self {
         Fixed32(square_raw_small(self.0))
     }
+    /// The wrapping sum: the saturating one wherever the sum is in range,
+    /// which it is for `add_small`'s operands (on RV32IMAC one `add`, where
+    /// the saturating sum is four instructions).
+    #[inline(always)]
+    fn add_small(self, o: Self) -> Self {
+        Fixed32(self.0.wrapping_add(o.0))
+    }
+    /// The wrapping negation: the saturating one for every value but the
+    /// bottom one, raw `i32::MIN`, which a unit vector's component never is.
+    #[inline(always)]
+    fn neg_small(self) -> Self {
+        Fixed32(self.0.wrapping_neg())
+    }
 
     /// `unit_and_length_raw`: the general code without the range tests
     /// that cannot fire, for every vector from 2⁻⁷ up. Not on WebAssembly,
@@ -2225,6 +2238,36 @@ mod tests {
             assert_eq!(square_raw_limbs(a), want(a), "{a}²");
             assert_eq!(Fixed32(a).square(), Fixed32(a) * Fixed32(a));
         }
+    }
+
+    /// The wrapping sum and negation (`add_small`, `neg_small`) are the
+    /// saturating ones for sums up to 64 in magnitude and for every value
+    /// but the bottom one, and a dot product of unit components stays far
+    /// inside that.
+    #[test]
+    fn small_sums_and_negations_are_the_saturating_ones() {
+        let mut rng = Rng(0xADD5);
+        let bound = 64i32 << FRAC;
+        for _ in 0..1_000_000 {
+            let a = (rng.u32() as i32) >> (rng.u32() % 8);
+            let b = (rng.u32() as i32) >> (rng.u32() % 8);
+            let (fa, fb) = (Fixed32(a), Fixed32(b));
+            if (a as i64 + b as i64).abs() <= bound as i64 {
+                assert_eq!(fa.add_small(fb), fa + fb, "{a} + {b}");
+            }
+            if a != i32::MIN {
+                assert_eq!(fa.neg_small(), -fa, "-{a}");
+            }
+        }
+        for v in [0, 1, -1, RAW_MAX, RAW_MIN, i32::MIN + 1, bound, -bound] {
+            assert_eq!(Fixed32(v).neg_small(), -Fixed32(v), "-{v}");
+        }
+        // Three products of components at most 4: at most 48.
+        let four = Fixed32::from_f32(4.0);
+        let p = four.mul_small(four);
+        assert_eq!(p.add_small(p).add_small(p), p + p + p);
+        let m = -p;
+        assert_eq!(m.add_small(m).add_small(m), m + m + m);
     }
 
     /// The products without range tests equal the product for operands

@@ -272,6 +272,24 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
         self.map(S::square_small)
     }
 
+    /// Lane-wise [`Scalar::add_small`]: the sum, for sums at most 64 in
+    /// magnitude.
+    #[inline(always)]
+    pub fn add_small(self, o: Self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] = r[i].add_small(o.0[i]);
+        }
+        Lanes(r)
+    }
+
+    /// Lane-wise [`Scalar::neg_small`]: the negation, for lanes at most 4 in
+    /// magnitude.
+    #[inline(always)]
+    pub fn neg_small(self) -> Self {
+        self.map(S::neg_small)
+    }
+
     /// Applies `f` to every lane.
     #[inline(always)]
     pub fn map(self, f: impl Fn(S) -> S) -> Self {

@@ -149,6 +149,22 @@ pub trait Scalar:
     fn square_small(self) -> Self {
         self.square()
     }
+    /// `self + o` for operands whose sum is at most 64 in magnitude (the
+    /// terms of a dot product of [`Scalar::mul_small`]'s factors: at most
+    /// 3 × 16), bit for bit the sum there; a scalar of limited range may
+    /// leave out the saturation that cannot happen for them, and otherwise
+    /// gives an unspecified value (never a panic), as `mul_small` does.
+    #[inline(always)]
+    fn add_small(self, o: Self) -> Self {
+        self + o
+    }
+    /// `-self` for `self` at most 4 in magnitude (a unit vector's
+    /// component), bit for bit; a scalar of limited range may leave out the
+    /// saturation of its bottom value, which such a component never is.
+    #[inline(always)]
+    fn neg_small(self) -> Self {
+        -self
+    }
 
     /// One vector's unit vector and length (components `v`), bit for bit
     /// what the general lane code of `Vec3xW::normalize_with_length` gives

@@ -83,12 +83,42 @@ pub(crate) struct CandidateIndices {
     len: usize,
 }
 
+/// The index of the lowest set bit of `bits`, which is not zero.
+///
+/// Why a table: on cores without a count-trailing-zeros instruction
+/// (Armv6-M, RV32IMAC) `trailing_zeros` is a de Bruijn product and a table
+/// load, about eight instructions; the lowest byte's index from a 256-byte
+/// table is three, and a scene's first eight primitives are all in it.
+#[inline(always)]
+pub(crate) fn lowest_bit(bits: u32) -> usize {
+    #[cfg(any(armv6m, target_arch = "riscv32"))]
+    {
+        let low = bits as u8;
+        if low != 0 {
+            return LOWEST_BIT[low as usize] as usize;
+        }
+    }
+    bits.trailing_zeros() as usize
+}
+
+/// `LOWEST_BIT[b]`: the index of `b`'s lowest set bit (0 for 0, never read).
+#[cfg(any(armv6m, target_arch = "riscv32", test))]
+static LOWEST_BIT: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut b = 1;
+    while b < 256 {
+        t[b] = (b as u32).trailing_zeros() as u8;
+        b += 1;
+    }
+    t
+};
+
 impl Iterator for CandidateIndices {
     type Item = usize;
     #[inline(always)]
     fn next(&mut self) -> Option<usize> {
         if self.bits != 0 {
-            let k = self.bits.trailing_zeros() as usize;
+            let k = lowest_bit(self.bits);
             // Clear the lowest set bit.
             self.bits &= self.bits.wrapping_sub(1);
             return Some(k);
@@ -902,7 +932,7 @@ impl<S: Scalar> ShadowCull<S> {
             let mut entries =
                 if lit.get(0) { cx.entries(dir.x.0[0]) & cy.entries(dir.y.0[0]) & cz.entries(dir.z.0[0]) } else { 0 };
             while entries != 0 {
-                let e = entries.trailing_zeros() as usize;
+                let e = lowest_bit(entries);
                 entries &= entries.wrapping_sub(1);
                 let (Some(o), Some(&k)) = (row.get(e), index.get(e)) else { break };
                 if reached(o) {
@@ -1157,6 +1187,27 @@ mod tests {
     use super::*;
     use crate::num::fixed32::Fixed32;
     use crate::scene::{Material, Scene};
+
+    /// The lowest set bit's table and function give `trailing_zeros`.
+    #[test]
+    fn lowest_bits_are_the_trailing_zeros() {
+        assert_eq!(LOWEST_BIT[1], 0);
+        assert_eq!(LOWEST_BIT[128], 7);
+        for b in 1..256u32 {
+            assert_eq!(LOWEST_BIT[b as usize] as u32, b.trailing_zeros(), "{b:#b}");
+        }
+        let mut x = 0x9E37_79B9u32;
+        for _ in 0..10_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            for bits in [x, x & 0xFFFF_FF00, x & 0x8000_0000, x | 1] {
+                if bits != 0 {
+                    assert_eq!(lowest_bit(bits), bits.trailing_zeros() as usize, "{bits:#x}");
+                }
+            }
+        }
+    }
 
     /// The shadow candidates of width-1 rays from the direction cells and
     /// from every entry, for the demo scene's lights and seeded hit points
