@@ -350,36 +350,38 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// for bit, and an axis-aligned `v` costs one product, not three.
     #[inline(always)]
     pub fn dot_splat(self, v: Vec3<S>) -> Lanes<S, W> {
-        self.dot_splat_by(v, |a, b| a * b, |a, b| a + b)
+        self.dot_splat_by::<false>(v, |a, b| a * b)
     }
     /// [`Vec3xW::dot_splat`] of vectors whose components are at most 4 in
     /// magnitude (unit vectors), by [`Scalar::mul_small`] and
     /// [`Scalar::add_small`] (three products of at most 16): the same bits.
     #[inline(always)]
     pub fn dot_splat_small(self, v: Vec3<S>) -> Lanes<S, W> {
-        self.dot_splat_by(v, Lanes::mul_small, Lanes::add_small)
+        self.dot_splat_by::<true>(v, Lanes::mul_small)
     }
-    /// [`Vec3xW::dot_splat`] with the lane product `mul` and sum `add`.
+    /// [`Vec3xW::dot_splat`] with the lane product `mul`, summed by
+    /// [`Lanes::add_small`] if `SMALL`.
     #[inline(always)]
-    fn dot_splat_by(
+    fn dot_splat_by<const SMALL: bool>(
         self,
         v: Vec3<S>,
         mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>,
-        add: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>,
     ) -> Lanes<S, W> {
         let m = |a: Lanes<S, W>, b: S| mul(a, Lanes::splat(b));
         if S::SPARSE_PRODUCTS {
             // Left to right, as `x·vx + y·vy + z·vz` adds (`0 + p = p`).
             let mut sum = if v.x != S::ZERO { m(self.x, v.x) } else { Lanes::zero() };
             if v.y != S::ZERO {
-                sum = add(sum, m(self.y, v.y));
+                sum = if SMALL { sum.add_small(m(self.y, v.y)) } else { sum + m(self.y, v.y) };
             }
             if v.z != S::ZERO {
-                sum = add(sum, m(self.z, v.z));
+                sum = if SMALL { sum.add_small(m(self.z, v.z)) } else { sum + m(self.z, v.z) };
             }
             sum
+        } else if SMALL {
+            m(self.x, v.x).add_small(m(self.y, v.y)).add_small(m(self.z, v.z))
         } else {
-            add(add(m(self.x, v.x), m(self.y, v.y)), m(self.z, v.z))
+            m(self.x, v.x) + m(self.y, v.y) + m(self.z, v.z)
         }
     }
     /// [`Vec3::dot`] lane by lane, leaving out (where
@@ -390,22 +392,22 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// instead of a product.
     #[inline(always)]
     pub fn dot_sparse(self, o: Self) -> Lanes<S, W> {
-        self.dot_sparse_by(o, |a, b| a * b, |a, b| a + b)
+        self.dot_sparse_by::<false>(o, |a, b| a * b)
     }
     /// [`Vec3xW::dot_sparse`] of vectors whose components are at most 4 in
     /// magnitude (unit vectors), by [`Scalar::mul_small`] and
     /// [`Scalar::add_small`]: the same bits.
     #[inline(always)]
     pub fn dot_sparse_small(self, o: Self) -> Lanes<S, W> {
-        self.dot_sparse_by(o, Lanes::mul_small, Lanes::add_small)
+        self.dot_sparse_by::<true>(o, Lanes::mul_small)
     }
-    /// [`Vec3xW::dot_sparse`] with the lane product `mul` and sum `add`.
+    /// [`Vec3xW::dot_sparse`] with the lane product `mul`, summed by
+    /// [`Lanes::add_small`] if `SMALL`.
     #[inline(always)]
-    fn dot_sparse_by(
+    fn dot_sparse_by<const SMALL: bool>(
         self,
         o: Self,
         mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>,
-        add: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>,
     ) -> Lanes<S, W> {
         if S::SPARSE_PRODUCTS {
             let zero = Lanes::zero();
@@ -413,21 +415,17 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
             // Left to right, as `dot` adds.
             let mut sum = if zx { zero } else { mul(self.x, o.x) };
             if !zy {
-                sum = add(sum, mul(self.y, o.y));
+                sum = if SMALL { sum.add_small(mul(self.y, o.y)) } else { sum + mul(self.y, o.y) };
             }
             if !zz {
-                sum = add(sum, mul(self.z, o.z));
+                sum = if SMALL { sum.add_small(mul(self.z, o.z)) } else { sum + mul(self.z, o.z) };
             }
             sum
+        } else if SMALL {
+            mul(self.x, o.x).add_small(mul(self.y, o.y)).add_small(mul(self.z, o.z))
         } else {
-            add(add(mul(self.x, o.x), mul(self.y, o.y)), mul(self.z, o.z))
+            mul(self.x, o.x) + mul(self.y, o.y) + mul(self.z, o.z)
         }
-    }
-    /// `-self` for vectors whose components are at most 4 in magnitude
-    /// (unit vectors), by [`Scalar::neg_small`]: the same bits.
-    #[inline(always)]
-    pub fn neg_small(self) -> Self {
-        Vec3::new(self.x.neg_small(), self.y.neg_small(), self.z.neg_small())
     }
     /// [`Vec3::scale`] lane by lane, a component that is zero in every lane
     /// staying zero without its products where [`Scalar::SPARSE_PRODUCTS`]

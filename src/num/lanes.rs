@@ -283,13 +283,6 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
         Lanes(r)
     }
 
-    /// Lane-wise [`Scalar::neg_small`]: the negation, for lanes at most 4 in
-    /// magnitude.
-    #[inline(always)]
-    pub fn neg_small(self) -> Self {
-        self.map(S::neg_small)
-    }
-
     /// Applies `f` to every lane.
     #[inline(always)]
     pub fn map(self, f: impl Fn(S) -> S) -> Self {

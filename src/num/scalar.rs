@@ -158,13 +158,6 @@ pub trait Scalar:
     fn add_small(self, o: Self) -> Self {
         self + o
     }
-    /// `-self` for `self` at most 4 in magnitude (a unit vector's
-    /// component), bit for bit; a scalar of limited range may leave out the
-    /// saturation of its bottom value, which such a component never is.
-    #[inline(always)]
-    fn neg_small(self) -> Self {
-        -self
-    }
 
     /// One vector's unit vector and length (components `v`), bit for bit
     /// what the general lane code of `Vec3xW::normalize_with_length` gives
