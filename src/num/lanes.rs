@@ -175,15 +175,15 @@ mask_binop!(BitXor, bitxor, BitXorAssign, bitxor_assign, ^, ^=);
 
 impl<const W: usize> Not for Mask<W> {
     type Output = Self;
-    /// On Armv6-M the negation is written into a fresh array: at width 1
-    /// the copy-and-invert loop stayed a one-trip loop after inlining into
-    /// the tracer (about five instructions where one does). Elsewhere the
-    /// copy is inverted in place: on x86-64 the fresh array made width-1
-    /// renders 1–3 % slower (interleaved `raypack bench`), and the other
-    /// firmware images were the same code either way.
+    /// The negation written into a fresh array: at width 1 a copy inverted
+    /// in place stayed a one-trip loop after inlining into the tracer on
+    /// the 32-bit cores (about five instructions where one does; the
+    /// RV32IMAC `fixed32` frame 5.5 % longer). On x86 the copy inverted in
+    /// place: there the fresh array made width-1 renders 1–3 % slower
+    /// (interleaved `raypack bench`).
     #[inline(always)]
     fn not(self) -> Self {
-        #[cfg(armv6m)]
+        #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
         {
             let mut r = [0; W];
             for i in 0..W {
@@ -191,7 +191,7 @@ impl<const W: usize> Not for Mask<W> {
             }
             Mask(r)
         }
-        #[cfg(not(armv6m))]
+        #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
         {
             let mut r = self.0;
             for i in 0..W {
