@@ -437,13 +437,20 @@ fn mul16x32(w: u32, d: u32) -> u64 {
 // for the rest: [`round_words`] on the exact product's two words, and
 // the limbs' test of their high partial product.
 
-/// The portable product (64-bit hosts and WebAssembly): one exact `i64` product
-/// (|a·b| ≤ 2⁶², so adding half an ulp cannot overflow), an arithmetic shift
-/// (which floors, so ties go towards +∞), then the clamp.
+/// The portable product (64-bit hosts and WebAssembly): one exact `i64`
+/// product, then [`round_clamp`].
 #[inline(always)]
 #[cfg_attr(not(any(wide_mul, armv6m)), allow(dead_code))]
 fn mul_raw_native(a: i32, b: i32) -> i32 {
-    let r = (a as i64 * b as i64 + HALF_ULP) >> FRAC;
+    round_clamp(a as i64 * b as i64)
+}
+
+/// An exact product `p` (|p| ≤ 2⁶², so adding half an ulp cannot overflow)
+/// rounded half up to the format and clamped: an arithmetic shift (which
+/// floors, so ties go towards +∞), then the clamp.
+#[inline(always)]
+fn round_clamp(p: i64) -> i32 {
+    let r = (p + HALF_ULP) >> FRAC;
     if r > RAW_MAX as i64 {
         RAW_MAX
     } else if r < RAW_MIN as i64 {
@@ -469,30 +476,36 @@ fn mul_raw_native(a: i32, b: i32) -> i32 {
 #[inline(always)]
 #[cfg_attr(wide_mul, allow(dead_code))]
 fn round_words(hi: i32, lo: u32) -> i32 {
-    let h = (hi << (33 - FRAC)) | (lo >> (FRAC - 1)) as i32;
+    let h = half_ulps(hi, lo);
     if h >> (33 - FRAC) != hi {
         return clamp_words(hi, lo);
     }
+    halve_up(h)
+}
+
+/// The low 32 bits of `⌊p / 2^(FRAC−1)⌋` from `p`'s words (all of it when
+/// it fits, see [`round_words`]).
+#[inline(always)]
+#[cfg_attr(any(wide_mul, armv6m), allow(dead_code))]
+fn half_ulps(hi: i32, lo: u32) -> i32 {
+    (hi << (33 - FRAC)) | (lo >> (FRAC - 1)) as i32
+}
+
+/// `⌈h/2⌉ = ⌊(h + 1)/2⌋`, without a sum that could overflow.
+#[inline(always)]
+#[cfg_attr(any(wide_mul, armv6m), allow(dead_code))]
+fn halve_up(h: i32) -> i32 {
     h.wrapping_sub(h >> 1)
 }
 
 /// [`round_words`] for products of magnitude `2^(30−FRAC)` and up (rare:
-/// out of line): the exact `i64` product rebuilt from its words, rounded
-/// and clamped as [`mul_raw_native`] does.
+/// out of line): the exact `i64` product rebuilt from its words, then
+/// [`round_clamp`].
 #[cold]
 #[inline(never)]
 #[cfg_attr(wide_mul, allow(dead_code))]
 fn clamp_words(hi: i32, lo: u32) -> i32 {
-    let p = ((hi as i64) << 32) | lo as i64;
-    // |p| ≤ 2⁶²: adding half an ulp cannot overflow.
-    let r = (p + HALF_ULP) >> FRAC;
-    if r > RAW_MAX as i64 {
-        RAW_MAX
-    } else if r < RAW_MIN as i64 {
-        RAW_MIN
-    } else {
-        r as i32
-    }
+    round_clamp(((hi as i64) << 32) | lo as i64)
 }
 
 /// The product on 32-bit targets with a 32×32→64 multiply: the `i64`
@@ -511,8 +524,7 @@ fn mul_raw_words(a: i32, b: i32) -> i32 {
 #[inline(always)]
 #[cfg_attr(any(wide_mul, armv6m), allow(dead_code))]
 fn round_words_small(p: i64) -> i32 {
-    let h = (((p >> 32) as i32) << (33 - FRAC)) | ((p as u32) >> (FRAC - 1)) as i32;
-    h.wrapping_sub(h >> 1)
+    halve_up(half_ulps((p >> 32) as i32, p as u32))
 }
 
 /// The product on Armv6-M, from signed 16-bit limbs: `a = aₕ·2¹⁶ + aₗ` with
