@@ -12,6 +12,11 @@
 //! - `div_by_reciprocal`: the 32-bit cores without a divide instruction
 //!   (`armv6m`, RISC-V without `M`), where a two-word division goes
 //!   through a 16-bit reciprocal rather than the library's 64-bit one.
+//! - `hard_float`: targets whose `f32` arithmetic and conversions are
+//!   instructions: x86, AArch64, WebAssembly, Arm's `eabihf` targets and
+//!   RISC-V with `F` or `D` (read from the triple's ISA string, such as
+//!   `riscv32imafc`, as stable Rust does not report RISC-V's `f` feature
+//!   to `cfg`). Elsewhere `f32` is a library call per operation.
 //!
 //! Nothing else is decided here; the same source builds with or without
 //! these names on every target (they only choose between equal results).
@@ -20,7 +25,7 @@ use std::env;
 
 fn main() {
     println!("cargo::rerun-if-changed=build.rs");
-    for name in ["armv6m", "armv6m_inline_mul", "wide_mul", "div_by_reciprocal"] {
+    for name in ["armv6m", "armv6m_inline_mul", "wide_mul", "div_by_reciprocal", "hard_float"] {
         println!("cargo::rustc-check-cfg=cfg({name})");
     }
     let arch = env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default();
@@ -42,5 +47,20 @@ fn main() {
     let riscv_without_divide = arch == "riscv32" && !features.split(',').any(|f| f == "m");
     if !wide_mul && (armv6m || riscv_without_divide) {
         println!("cargo::rustc-cfg=div_by_reciprocal");
+    }
+    let abi = env::var("CARGO_CFG_TARGET_ABI").unwrap_or_default();
+    let triple = env::var("TARGET").unwrap_or_default();
+    let riscv_float = arch.starts_with("riscv")
+        && (features.split(',').any(|f| f == "f" || f == "d")
+            || triple
+                .split('-')
+                .next()
+                .and_then(|isa| isa.strip_prefix("riscv32").or_else(|| isa.strip_prefix("riscv64")))
+                .is_some_and(|letters| letters.contains(['f', 'd', 'g'])));
+    let hard_float = matches!(arch.as_str(), "x86" | "x86_64" | "aarch64" | "wasm32")
+        || (arch == "arm" && abi == "eabihf")
+        || riscv_float;
+    if hard_float {
+        println!("cargo::rustc-cfg=hard_float");
     }
 }

@@ -452,7 +452,7 @@ impl Scalar for f32 {
     }
     #[inline(always)]
     fn floor_to_i32(self) -> i32 {
-        if cfg!(any(target_arch = "x86", target_arch = "x86_64")) {
+        if cfg!(hard_float) {
             // With hardware conversions: truncate, and step down where that
             // rounded up (a negative non-integer). `t as f32` is exact: a
             // truncated `f32` below 2³¹ is an integer `f32` holds. `as`
@@ -466,7 +466,11 @@ impl Scalar for f32 {
                 t
             }
         } else {
-            // `as` saturates and maps NaN to 0.
+            // In soft float, where each conversion and comparison above is
+            // a library call, `floorf`'s bit operations cost less (the
+            // Cortex-M0's `f32` frame took 864.7 M instructions with the
+            // truncation, 856.4 M with `floorf`). `as` saturates and maps
+            // NaN to 0.
             libm::floorf(self) as i32
         }
     }
