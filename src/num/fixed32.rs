@@ -1027,12 +1027,14 @@ fn div_raw(a: i32, b: i32) -> i32 {
 }
 
 /// Bits per digit of [`div_raw_short`]'s long division.
+#[cfg_attr(any(wide_mul, div_by_reciprocal), allow(dead_code))]
 const SHORT_DIGIT: u32 = 8;
 /// Divisors (raw magnitudes) below this take [`div_raw_short`]: a
 /// remainder below the divisor then still fits 32 bits after a shift by
 /// one digit.
+#[cfg_attr(any(wide_mul, div_by_reciprocal), allow(dead_code))]
 const SHORT_DIVISOR_LIMIT: u32 = 1 << (32 - SHORT_DIGIT);
-const _: () = assert!(FRAC % SHORT_DIGIT == 0);
+const _: () = assert!(FRAC.is_multiple_of(SHORT_DIGIT));
 
 /// [`div_raw_with`]'s quotient, bit for bit, for `|b| <`
 /// [`SHORT_DIVISOR_LIMIT`] (zero included), by long division with 32-bit
