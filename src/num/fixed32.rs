@@ -1034,11 +1034,11 @@ const SHORT_DIGIT: u32 = 8;
 /// one digit.
 #[cfg_attr(any(wide_mul, div_by_reciprocal), allow(dead_code))]
 const SHORT_DIVISOR_LIMIT: u32 = 1 << (32 - SHORT_DIGIT);
-const _: () = assert!(FRAC.is_multiple_of(SHORT_DIGIT));
+const _: () = assert!(FRAC == 3 * SHORT_DIGIT);
 
 /// [`div_raw_with`]'s quotient, bit for bit, for `|b| <`
 /// [`SHORT_DIVISOR_LIMIT`] (zero included), by long division with 32-bit
-/// divides: the integer part `⌊x/y⌋`, then `FRAC/8` digits of 8 bits, each
+/// divides: the integer part `⌊x/y⌋`, then three digits of 8 bits (`FRAC` = 24), each
 /// `⌊r·2⁸/y⌋` from the previous remainder `r < y` (so `r·2⁸ < 2³²`), and
 /// the last remainder rounds.
 ///
@@ -1046,8 +1046,9 @@ const _: () = assert!(FRAC.is_multiple_of(SHORT_DIGIT));
 /// Armv7-M): the normalised two-word division needs the divisor's leading
 /// zeros (a dozen instructions without a count instruction), 64-bit shifts
 /// of the numerator and algorithm D's corrections, about 90 instructions
-/// on RV32IMAC; this is about 35, with four divides instead of two (18
-/// to 34 cycles each on common RV32 cores, 2 to 12 on the Cortex-M4).
+/// a call on RV32IMAC; this is about 45, four of them divides instead of
+/// two (a divide takes 18 to 34 cycles on common RV32 cores, 2 to 12 on
+/// the Cortex-M4).
 #[inline(always)]
 #[cfg_attr(any(wide_mul, div_by_reciprocal), allow(dead_code))]
 fn div_raw_short(a: i32, b: i32) -> i32 {
@@ -1065,14 +1066,17 @@ fn div_raw_short(a: i32, b: i32) -> i32 {
     // Integer part, then one digit at a time: q·y + r = x·2^(8i) after
     // digit i, with r < y < 2^(32−8) (the wrapping forms only spare
     // overflow checks: every step is exact).
-    let mut q = x / y_nz;
-    let mut r = x.wrapping_sub(q.wrapping_mul(y));
-    for _ in 0..FRAC / SHORT_DIGIT {
+    // (Three digits written out: at opt-level `s` a loop stays a loop,
+    // two instructions more per digit.)
+    let digit = |q: u32, r: u32| {
         let t = r << SHORT_DIGIT;
-        let digit = t / y_nz;
-        r = t.wrapping_sub(digit.wrapping_mul(y));
-        q = (q << SHORT_DIGIT) | digit;
-    }
+        let d = t / y_nz;
+        ((q << SHORT_DIGIT) | d, t.wrapping_sub(d.wrapping_mul(y)))
+    };
+    let q = x / y_nz;
+    let (q, r) = digit(q, x.wrapping_sub(q.wrapping_mul(y)));
+    let (q, r) = digit(q, r);
+    let (q, r) = digit(q, r);
     // q = ⌊x·2^FRAC/y⌋, r its remainder: at least half the divisor rounds
     // the magnitude up (away from zero); only 2³¹ itself saturates.
     let q = q.wrapping_add((r >= y - r) as u32);
