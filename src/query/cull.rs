@@ -85,16 +85,16 @@ pub(crate) struct CandidateIndices {
 
 /// The index of the lowest set bit of `bits`, which is not zero.
 ///
-/// Why a table on Armv6-M: without a count-trailing-zeros instruction
-/// `trailing_zeros` is a de Bruijn product and a table load, about eight
-/// instructions; the lowest byte's index from a 256-byte table is three,
-/// and a scene's first eight primitives are all in it. (RV32IMAC has no
-/// such instruction either, and gained 0.2 % of its `fixed32` frame from
-/// the table, but the RISC-V board with vectors, which `cfg` cannot tell
-/// apart, lost 0.4 % and 1.7 % at widths 1 and 8.)
+/// Why a table on Armv6-M and on RISC-V without hardware floats: without
+/// a count-trailing-zeros instruction `trailing_zeros` is a de Bruijn
+/// product and a table load, about eight instructions; the lowest byte's
+/// index from a 256-byte table is three, and a scene's first eight
+/// primitives are all in it. (The RISC-V board with vectors and `F` lost
+/// 0.4 % and 1.7 % at widths 1 and 8 with the table, so it keeps
+/// `trailing_zeros`.)
 #[inline(always)]
 pub(crate) fn lowest_bit(bits: u32) -> usize {
-    #[cfg(armv6m)]
+    #[cfg(any(armv6m, all(target_arch = "riscv32", not(hard_float))))]
     {
         let low = bits as u8;
         if low != 0 {
@@ -105,7 +105,7 @@ pub(crate) fn lowest_bit(bits: u32) -> usize {
 }
 
 /// `LOWEST_BIT[b]`: the index of `b`'s lowest set bit (0 for 0, never read).
-#[cfg(any(armv6m, test))]
+#[cfg(any(armv6m, all(target_arch = "riscv32", not(hard_float)), test))]
 static LOWEST_BIT: [u8; 256] = {
     let mut t = [0u8; 256];
     let mut b = 1;
