@@ -962,12 +962,9 @@ fn div_raw_by_zero(a: i32) -> i32 {
 #[inline(always)]
 fn div_raw_normalised(a: i32, b: i32, s: u32, words: impl Fn(u32, u32, u32) -> (u32, u32)) -> i32 {
     let neg = (a ^ b) < 0;
-    let sat = if neg { RAW_MIN } else { RAW_MAX };
     let (x, y) = (a.unsigned_abs(), b.unsigned_abs());
-    // The quotient x·2^FRAC/y is ≥ 2³¹ (saturates) iff x ≥ 2^(31−FRAC)·y,
-    // i.e. iff ⌊x/2^(31−FRAC)⌋ ≥ y (y is an integer).
-    if x >> (31 - FRAC) >= y {
-        return sat;
+    if quotient_saturates(x, y) {
+        return if neg { RAW_MIN } else { RAW_MAX };
     }
     // Normalise: d = y·2^s ∈ [2³¹, 2³²). The numerator N = x·2^(FRAC+s) then
     // satisfies N < 2³¹·d (from x < 2^(31−FRAC)·y), so its high word is
@@ -976,10 +973,25 @@ fn div_raw_normalised(a: i32, b: i32, s: u32, words: impl Fn(u32, u32, u32) -> (
     let d = y.wrapping_shl(s);
     let k = FRAC + s; // ∈ [FRAC, FRAC + 31]
     let (u1, u0) = if k >= 32 { (x.wrapping_shl(k - 32), 0) } else { (x.wrapping_shr(32 - k), x.wrapping_shl(k)) };
+    // r = 2^s·(x·2^FRAC mod y) < d: the same halfway test as against y.
     let (q, r) = words(u1, u0, d);
-    // r = 2^s·(x·2^FRAC mod y) < d: the remainder is at least half the
-    // divisor iff r ≥ d − r; the magnitude then rounds up (away from zero).
-    // q < 2³¹, so q + 1 ≤ 2³¹ fits, and only 2³¹ itself saturates.
+    round_quotient(q, r, d, neg)
+}
+
+/// Whether the quotient `x·2^FRAC/y` of magnitudes is ≥ 2³¹ (saturates):
+/// iff x ≥ 2^(31−FRAC)·y, i.e. iff ⌊x/2^(31−FRAC)⌋ ≥ y (y is an integer).
+/// Otherwise ⌊x·2^FRAC/y⌋ < 2³¹.
+#[inline(always)]
+fn quotient_saturates(x: u32, y: u32) -> bool {
+    x >> (31 - FRAC) >= y
+}
+
+/// The signed quotient from its magnitude's `q = ⌊n/d⌋ < 2³¹` and
+/// remainder `r < d`: the remainder is at least half the divisor iff
+/// r ≥ d − r, and the magnitude then rounds up (away from zero); q + 1 ≤
+/// 2³¹ fits, and only 2³¹ itself saturates.
+#[inline(always)]
+fn round_quotient(q: u32, r: u32, d: u32, neg: bool) -> i32 {
     let q = q.wrapping_add((r >= d.wrapping_sub(r)) as u32);
     let m = if q > RAW_MAX as u32 { RAW_MAX } else { q as i32 };
     if neg {
@@ -1057,10 +1069,9 @@ fn div_raw_short(a: i32, b: i32) -> i32 {
     };
     let neg = (a ^ b) < 0;
     let (x, y) = (a.unsigned_abs(), y_nz.get());
-    // As in `div_raw_normalised`: the quotient is ≥ 2³¹ (saturates) iff
-    // ⌊x/2^(31−FRAC)⌋ ≥ y. Otherwise x < 2^(31−FRAC)·y, so the integer part
-    // below is under 2^(31−FRAC) and the finished quotient under 2³¹.
-    if x >> (31 - FRAC) >= y {
+    // Past this, x < 2^(31−FRAC)·y: the integer part below is under
+    // 2^(31−FRAC) and the finished quotient under 2³¹.
+    if quotient_saturates(x, y) {
         return if neg { RAW_MIN } else { RAW_MAX };
     }
     // Integer part, then one digit at a time: q·y + r = x·2^(8i) after
@@ -1077,15 +1088,8 @@ fn div_raw_short(a: i32, b: i32) -> i32 {
     let (q, r) = digit(q, x.wrapping_sub(q.wrapping_mul(y)));
     let (q, r) = digit(q, r);
     let (q, r) = digit(q, r);
-    // q = ⌊x·2^FRAC/y⌋, r its remainder: at least half the divisor rounds
-    // the magnitude up (away from zero); only 2³¹ itself saturates.
-    let q = q.wrapping_add((r >= y - r) as u32);
-    let m = if q > RAW_MAX as u32 { RAW_MAX } else { q as i32 };
-    if neg {
-        -m
-    } else {
-        m
-    }
+    // q = ⌊x·2^FRAC/y⌋, r its remainder.
+    round_quotient(q, r, y, neg)
 }
 
 /// [`ratio_raw`] with this target's two-word division, out of line (rare:
