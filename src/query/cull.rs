@@ -883,9 +883,8 @@ impl<S: Scalar> ShadowCull<S> {
         self.candidates_here(light, origin, dir, eps, lit, use_cells::<W>())
     }
 
-    /// [`ShadowCull::candidates`]' work; with `cells_first` (at width 1:
-    /// the lane is lane 0) from the direction cells, otherwise from every
-    /// entry (the same candidates).
+    /// [`ShadowCull::candidates`]' work; with `cells_first` from the
+    /// direction cells, otherwise from every entry (the same candidates).
     #[inline(always)]
     fn candidates_here<const W: usize>(
         &self,
@@ -924,7 +923,36 @@ impl<S: Scalar> ShadowCull<S> {
             }
             o.cone_holds(dir, inside)
         };
-        if let (true, Some([cx, cy, cz])) = (cells_first, self.cells.get(light)) {
+        if let (true, true, Some([cx, cy, cz])) = (cells_first, W > 1, self.cells.get(light)) {
+            // A packet: only the entries whose direction box can hold some
+            // lit lane's direction, those in the cells of each lane's three
+            // components (what each lane alone would test, together). Each
+            // is then tested for all lanes: at widths 2 to 4 each lane's six
+            // box comparisons at once (on the Cortex-M55 one vector compare
+            // and five predicated ones, where the axis-by-axis form of
+            // `reached` compares lane by lane); at width 8 LLVM made all 48
+            // comparisons of that form scalar, so wider packets keep
+            // `reached`.
+            let mut entries: EntryMask = 0;
+            for l in 0..W {
+                let e = cx.entries(dir.x.0[l]) & cy.entries(dir.y.0[l]) & cz.entries(dir.z.0[l]);
+                entries |= if lit.get(l) { e } else { 0 };
+            }
+            while entries != 0 {
+                let e = lowest_bit(entries);
+                entries &= entries.wrapping_sub(1);
+                let (Some(o), Some(&k)) = (row.get(e), index.get(e)) else { break };
+                let hit = if W <= 4 {
+                    let inside = lit & dir.in_box(o.dlo, o.dhi);
+                    inside.any() && o.cone_holds(dir, inside)
+                } else {
+                    reached(o)
+                };
+                if hit {
+                    m |= 1 << k;
+                }
+            }
+        } else if let (true, Some([cx, cy, cz])) = (cells_first, self.cells.get(light)) {
             // One ray: only the entries whose direction box can hold its
             // direction, from the cells of its three components (a few
             // comparisons and loads, where testing every entry's box took
@@ -943,11 +971,8 @@ impl<S: Scalar> ShadowCull<S> {
                 }
             }
         } else if W > 1 && W <= 4 {
-            // A packet of 2 to 4 lanes: every entry, each lane's six box
-            // comparisons at once (on the Cortex-M55 one vector compare and
-            // five predicated ones, where the axis-by-axis form of
-            // `reached` compares lane by lane; at width 8 LLVM made all 48
-            // comparisons scalar, so wider packets keep that form).
+            // Without the cells (x86, WebAssembly), a packet of 2 to 4 lanes
+            // tests every entry, each lane's six box comparisons at once.
             for (o, &k) in row.iter().zip(index).take(n as usize) {
                 let inside = lit & dir.in_box(o.dlo, o.dhi);
                 if inside.any() && o.cone_holds(dir, inside) {
@@ -955,9 +980,8 @@ impl<S: Scalar> ShadowCull<S> {
                 }
             }
         } else {
-            // A packet tests every entry: its lanes' comparisons run side
-            // by side, and finding each lane's cells cost more than they
-            // spared (Cortex-M55 and RVV at widths 4 and 8).
+            // Without the cells, a single ray or a wider packet tests every
+            // entry, axis by axis.
             for (o, &k) in row.iter().zip(index).take(n as usize) {
                 if reached(o) {
                     m |= 1 << k;
@@ -1097,16 +1121,23 @@ const fn one_ray_off_x86<const W: usize>() -> bool {
 }
 
 /// Whether [`ShadowCull`]'s shadow-ray test starts from the direction
-/// cells: at width 1 on every target but x86 (the unit test
+/// cells: at every width on every target but x86 (the unit test
 /// `direction_cells_leave_the_candidates_as_they_are` compares both ways
-/// on the host). On x86 the tracer's code (the cull inline in it) compiled
-/// differently with them and rendered `gears-2` at packet 1 2.4 % slower
-/// (`raypack bench`, 8 interleaved rounds), a scene the cull does not even
-/// serve (more than 32 primitives).
+/// on the host, at widths 1, 4 and 8). On x86 the tracer's code (the cull
+/// inline in it) compiled differently with them and rendered `gears-2` at
+/// packet 1 2.4 % slower (`raypack bench`, 8 interleaved rounds), a scene
+/// the cull does not even serve (more than 32 primitives).
+///
+/// A packet looks up every lane's cells, which pays at every width
+/// measured: the Cortex-M55's width 4 took 33 461 281 instructions instead
+/// of 34 787 531 and width 8 42 417 375 instead of 47 057 875; RVV's width
+/// 8 29 303 000 instead of 30 409 100; soft float too, RV32IMAC at width 4
+/// (not a board's setting) 701 748 700 instead of 728 051 100 in `f32` and
+/// 305 621 800 instead of 320 207 000 in `fixed32`.
 ///
 /// Nor on WebAssembly, where there are none ([`CELL_LIGHTS`]).
 const fn use_cells<const W: usize>() -> bool {
-    one_ray_off_x86::<W>() && CELL_LIGHTS > 0
+    !cfg!(any(target_arch = "x86", target_arch = "x86_64")) && CELL_LIGHTS > 0
 }
 
 /// The cone and the box of directions from the light `l` reaching the box
@@ -1267,10 +1298,41 @@ mod tests {
                 assert_eq!(with, without, "{name}: light {li}, direction {:?}", d.lane(0));
                 culled += (with & low_bits(view.primitives().len())).count_zeros();
             }
+            // Packets of those directions, with seeded lit lanes (none to all).
+            packets_agree::<S, 4>(name, &cull, li, &dirs, &mut next);
+            packets_agree::<S, 8>(name, &cull, li, &dirs, &mut next);
         }
         // The table culls something (the comparison is not between two
         // empty tables).
         assert!(culled > 1000, "{name}: {culled}");
+    }
+
+    /// [`cells_agree`] for packets of `W` lanes: each lane a direction of
+    /// `dirs` picked by the seeded `next`, lit with probability 0.7.
+    fn packets_agree<S: Scalar, const W: usize>(
+        name: &str,
+        cull: &ShadowCull<S>,
+        light: usize,
+        dirs: &[Vec3xW<S, 1>],
+        next: &mut impl FnMut() -> f32,
+    ) {
+        let eps = Lanes::<S, W>::splat(S::from_f32(1e-4));
+        let mut tested = 0;
+        for _ in 0..dirs.len() {
+            let mut d = Vec3::new(Lanes::zero(), Lanes::zero(), Lanes::zero());
+            let mut lit = [false; W];
+            for (l, lit) in lit.iter_mut().enumerate() {
+                let i = ((next() * dirs.len() as f32) as usize).min(dirs.len() - 1);
+                d.set_lane(l, dirs[i].lane(0));
+                *lit = next() < 0.7;
+            }
+            let lit = Mask::from_array(lit);
+            let with = cull.candidates_here(light, None, &d, eps, lit, true);
+            let without = cull.candidates_here(light, None, &d, eps, lit, false);
+            assert_eq!(with, without, "{name}: light {light}, {W} lanes {lit:?}: {d:?}");
+            tested += usize::from(with != ALL);
+        }
+        assert!(tested > dirs.len() / 2, "{name}: {tested}");
     }
 
     #[test]
