@@ -935,8 +935,9 @@ impl<S: Scalar> ShadowCull<S> {
             // `reached`.
             let mut entries: EntryMask = 0;
             for l in 0..W {
-                let e = cx.entries(dir.x.0[l]) & cy.entries(dir.y.0[l]) & cz.entries(dir.z.0[l]);
-                entries |= if lit.get(l) { e } else { 0 };
+                if lit.get(l) {
+                    entries |= cx.entries(dir.x.0[l]) & cy.entries(dir.y.0[l]) & cz.entries(dir.z.0[l]);
+                }
             }
             while entries != 0 {
                 let e = lowest_bit(entries);
