@@ -1042,7 +1042,12 @@ impl<S: Scalar> ShadowCull<S> {
         if active.and_not(d.x.abs().le(four) & d.y.abs().le(four) & d.z.abs().le(four)).any() {
             return ALL;
         }
-        for k in candidate_indices(!self.reach_always, self.reach_len) {
+        // The table's entries, all below bit 32 ([`SHADOW_OCCLUDERS`]): its
+        // set bits by hand, without `candidate_indices`' tail past bit 32.
+        let mut bits = !self.reach_always & low_bits(self.reach_len);
+        while bits != 0 {
+            let k = lowest_bit(bits);
+            bits &= bits.wrapping_sub(1);
             let Some(e) = self.reach.get(k) else { break };
             let oc = e.centre.splat::<W>() - ray.origin;
             // First, comparisons only: lanes whose origin lies more than
