@@ -10,6 +10,10 @@ pub mod fixed32;
 pub mod fixed64;
 pub mod lanes;
 pub mod scalar;
+// Used by `f32` where neither `std` nor WebAssembly SIMD gives the square
+// root instruction (the firmware), and by its tests on the host.
+#[cfg(any(test, not(any(feature = "std", all(target_arch = "wasm32", target_feature = "simd128")))))]
+pub(crate) mod sqrtf;
 #[cfg(test)]
 pub(crate) mod test_rng;
 pub mod unit_pow;

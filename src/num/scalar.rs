@@ -10,9 +10,11 @@
 //! means: plain IEEE operations (correctly rounded in hardware and in
 //! soft-float alike), no `mul_add`, no reassociation, and transcendental
 //! functions from the pure-Rust `libm` crate, never from the platform's C
-//! library. `sqrt` is the one exception that may use the compiler intrinsic
-//! (with `std`, and on WebAssembly SIMD through `core::arch`): IEEE requires it to be correctly rounded, so `f32::sqrt` and
-//! `libm::sqrtf` agree bit for bit, and only the intrinsic vectorizes.
+//! library. `sqrt` is correctly rounded by IEEE 754, so its result is
+//! unique: the compiler intrinsic (with `std`, and on WebAssembly SIMD
+//! through `core::arch`), which vectorizes, and elsewhere the integer
+//! algorithm of `src/num/sqrtf.rs` (musl's, as in `libm`) agree
+//! bit for bit.
 
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -455,9 +457,11 @@ impl Scalar for f32 {
             use core::arch::wasm32::{f32x4_extract_lane, f32x4_splat, f32x4_sqrt};
             f32x4_extract_lane::<0>(f32x4_sqrt(f32x4_splat(self)))
         }
+        // Elsewhere (the firmware): `libm::sqrtf`'s algorithm without its
+        // inexact flag's addition (`num::sqrtf`).
         #[cfg(all(not(feature = "std"), not(all(target_arch = "wasm32", target_feature = "simd128"))))]
         {
-            libm::sqrtf(self)
+            crate::num::sqrtf::sqrtf(self)
         }
     }
     #[inline(always)]
