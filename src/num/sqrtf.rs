@@ -22,7 +22,7 @@
 //! `r ≈ 1/√m` to 2⁻⁸; two Goldschmidt iterations in 32-bit fixed point
 //! refine `r` and `s = m·r ≈ √m` together (each step
 //! `u = 3 − s·r`, `r ← r·u/2`, `s ← s·u/2` roughly squares the error),
-//! leaving `s < √m < s + 2⁻²³·1.08` in the significand's units. The correctly
+//! leaving `s < √m < s + 1.04·2⁻²³` in the significand's units. The correctly
 //! rounded result is then `s` or `s + 1 ulp`: the sign of
 //! `2^(2p)·m − (s + ½)²`, formed exactly in wrapping 32-bit arithmetic,
 //! chooses. The only operations are integer ones (`mulh` as a 32×32→64
@@ -65,7 +65,7 @@ pub(crate) fn sqrtf(x: f32) -> f32 {
         return special(x);
     }
     // `m`: the significand as a U2.30 number in [1, 4), the exponent's
-    // parity folded in (an odd exponent doubles it); `ey`: the result's
+    // parity folded in (an odd unbiased exponent doubles it); `ey`: the result's
     // exponent field, half the input's (rebiased).
     let even = ix & 0x0080_0000 != 0;
     let m = if even { (ix << 7) & 0x7fff_ffff } else { (ix << 8) | 0x8000_0000 };
@@ -75,24 +75,28 @@ pub(crate) fn sqrtf(x: f32) -> f32 {
     let three = 0xc000_0000u32; // 3 in U2.30
     let mut r = (RSQRT_TAB[((ix >> 17) & 127) as usize] as u32) << 16;
     // First Goldschmidt step from `m` itself (no accumulated error):
-    // `s = m·r ≈ √m`, `u = 3 − s·r ≈ 2`, then `r·u/2`, `s·u/2` (the halving
-    // and the U2 → U1 shift cancel into one left shift): error < 2⁻¹⁵·1.5.
+    // `s = m·r ≈ √m`, `u = 3 − s·r ≈ 2`, then `r·u/2`, `s·u/2` (the
+    // products' units and the halving together are one left shift):
+    // `|r·√m − 1| < 1.48·2⁻¹⁶`.
     let mut s = mulh(m, r);
     let d = mulh(s, r);
     let u = three.wrapping_sub(d);
     r = mulh(r, u) << 1;
     s = mulh(s, u) << 1;
     // Second step from `s` and `r` alone; `s` ends in U3.29 with
-    // −2⁻²⁸·1.01 < s/√m − 1 < 2⁻²³·1.99.
+    // −1.02·2⁻²⁸ < s/√m − 1 < 1.99·2⁻²⁴ (musl's bounds).
     let d = mulh(s, r);
     let u = three.wrapping_sub(d);
     s = mulh(s, u);
     // The significand's 24 bits (1 ulp = 2⁻²³ of `m`'s units), truncated
-    // after stepping below: `s < √m < s + 1.08 ulp`.
+    // after stepping below: `s < √m < s + 1.04 ulp`.
     s = s.wrapping_sub(1) >> 6;
-    // Round: `d0 = 2^46·m − s²` (wrapping: only its low bits matter), and
-    // `d1 = s − d0` is negative exactly when `(s + ½)² < 2^46·m`, that is
-    // when `√m` lies past the midpoint, where the result is `s + 1`.
+    // Round: `d0 = (m << 16) − s²` and `d1 = s − d0` are, modulo 2³²,
+    // `s² + s − M` with `M` the value `m` in the units of `s²`; that
+    // difference is small, so the wrapped word keeps its sign: negative
+    // exactly when `(s + ½)² < M`, that is when the root lies past the
+    // midpoint `s + ½`, where the result is `s + 1` (no tie: `(s + ½)²` is
+    // not an integer).
     let d0 = (m << 16).wrapping_sub(s.wrapping_mul(s));
     let d1 = s.wrapping_sub(d0);
     s = s.wrapping_add(d1 >> 31);
