@@ -94,7 +94,7 @@
 //! | `+`       | 9 (former sum, see below) | 115   | 35    | 10 (former) | 79    |
 //! | `×`       | 50 (former product: see below) | 112   | 350   | 26 (former) | 51    |
 //! | `÷`       | 193   | 175   | 3552  | 100   | 98    |
-//! | `sqrt`    | 119   | 419 (`libm::sqrtf`; now about 310, see below) | 4016 | 97 | 124 (`libm::sqrtf`) |
+//! | `sqrt`    | 119   | 419 (`libm::sqrtf`; now about 145, see below) | 4016 | 97 | 124 (`libm::sqrtf`) |
 //! | `powf`    | 328   | 10138 (`libm::powf`), 4367 ([`crate::num::unit_pow::powf_unit`]) | 9960 | 267 | 5781, 2395 |
 //! | `from_f32`| 31    | —     | —     | 26    | —     |
 //!
@@ -122,10 +122,9 @@
 //!
 //! `f32`'s square root on the firmware is now `crate::num::sqrtf` (libm's
 //! algorithm without the soft-float addition that only raises the inexact
-//! flag; 248 + 256 bytes on the M0): in the demo frame 86 instructions a
-//! call and six `__aeabi_lmul` calls of about 37, so about 310 where the
-//! row above measured libm's 419 (block counts of the frame under QEMU,
-//! `tools/qemu-profile`).
+//! flag, its products' high words from `wmul`'s limbs): about 145
+//! instructions a call in the demo frame where the row above measured
+//! libm's 419 (`docs/fixed-point.md`).
 //!
 //! A quotient needs 31 correct bits where an `f32` quotient needs 24, which
 //! is why `÷` alone does not beat soft-float; the sums and products that
@@ -407,9 +406,10 @@ fn wmul_limbs(a: u32, b: u32) -> u64 {
 }
 
 /// Unsigned 32×32→64 product: the one wide primitive of the division and
-/// the square root (`powf` uses it once), picked per target like `×`.
+/// the square root (`powf` uses it once), picked per target like `×`; also
+/// the high words of `f32`'s software square root (`num::sqrtf`).
 #[inline(always)]
-fn wmul(a: u32, b: u32) -> u64 {
+pub(crate) fn wmul(a: u32, b: u32) -> u64 {
     #[cfg(armv6m)]
     {
         wmul_limbs(a, b)

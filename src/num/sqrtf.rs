@@ -31,6 +31,8 @@
 //! `f32::sqrt`'s and `sqrtss`'s (the host tests compare every 97th bit
 //! pattern against `f32::sqrt`).
 
+use crate::num::fixed32::wmul;
+
 /// `1/√m` estimates: entry `i` is for the mantissa's top bits `i` (the
 /// exponent's last bit and six fraction bits), in 0.16 fixed point. The
 /// table of musl and of the `libm` crate (MIT licence).
@@ -47,10 +49,12 @@ static RSQRT_TAB: [u16; 128] = [
     0xb617, 0xb560,
 ];
 
-/// The high word of the unsigned 32×32→64 product (`umull`, `mulhu`).
+/// The high word of the unsigned 32×32→64 product: `umull` or `mulhu`
+/// where there is a long multiply, 16-bit limbs on Armv6-M (`wmul`, where
+/// LLVM would call `__aeabi_lmul`, a full 64×64 product).
 #[inline(always)]
 fn mulh(a: u32, b: u32) -> u32 {
-    ((a as u64 * b as u64) >> 32) as u32
+    (wmul(a, b) >> 32) as u32
 }
 
 /// `√x`, correctly rounded (round to nearest, ties to even), bit for bit
