@@ -122,7 +122,7 @@
 //!
 //! `f32`'s square root on the firmware is now `crate::num::sqrtf` (libm's
 //! algorithm without the soft-float addition that only raises the inexact
-//! flag, its products' high words from `wmul`'s limbs): about 145
+//! flag, its products' high words from `num::wide`'s limbs): about 145
 //! instructions a call in the demo frame where the row above measured
 //! libm's 419 (`docs/fixed-point.md`).
 //!
@@ -133,6 +133,9 @@
 //! overflow checks on (checked with a `panic-never`-style link).
 
 use crate::num::scalar::{Divisor, Scalar};
+use crate::num::wide::wmul;
+#[cfg(test)]
+use crate::num::wide::{wmul_limbs, wmul_native};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 /// Number of fractional bits: the one constant that defines the format
@@ -373,50 +376,6 @@ fn clz(x: u32) -> u32 {
     #[cfg(not(wide_mul))]
     {
         clz_soft(x)
-    }
-}
-
-// The limb variants below are chosen on 32-bit Arm without 32-bit atomics,
-// i.e. Armv6-M (Cortex-M0/M0+/M1), which has no long multiply
-// (`umull`/`smull`): there LLVM would call `__aeabi_lmul`, a full 64×64
-// product. Stable `cfg` exposes no Arm ISA features, so the absence of
-// atomics (which Armv7-M and later have) is the discriminator; both variants
-// are compiled and tested against each other on every host, and give the
-// same bits everywhere.
-
-/// Unsigned 32×32→64 product, native (`u64` multiply).
-#[inline(always)]
-#[cfg_attr(armv6m, allow(dead_code))]
-fn wmul_native(a: u32, b: u32) -> u64 {
-    a as u64 * b as u64
-}
-
-/// Unsigned 32×32→64 product from four 16×16→32 products (schoolbook on
-/// 16-bit limbs), for cores without a long multiply. The two cross products
-/// may sum past 2³²; that carry has weight 2⁴⁸.
-#[inline(always)]
-#[cfg_attr(not(armv6m), allow(dead_code))]
-fn wmul_limbs(a: u32, b: u32) -> u64 {
-    let (al, ah, bl, bh) = (a & 0xFFFF, a >> 16, b & 0xFFFF, b >> 16);
-    let (mid, c_mid) = (al * bh).overflowing_add(ah * bl);
-    let (lo, c_lo) = (al * bl).overflowing_add(mid << 16);
-    // The true high word is below 2³², so these sums cannot overflow.
-    let hi = ah * bh + (mid >> 16) + ((c_mid as u32) << 16) + c_lo as u32;
-    ((hi as u64) << 32) | lo as u64
-}
-
-/// Unsigned 32×32→64 product: the one wide primitive of the division and
-/// the square root (`powf` uses it once), picked per target like `×`; also
-/// the high words of `f32`'s software square root (`num::sqrtf`).
-#[inline(always)]
-pub(crate) fn wmul(a: u32, b: u32) -> u64 {
-    #[cfg(armv6m)]
-    {
-        wmul_limbs(a, b)
-    }
-    #[cfg(not(armv6m))]
-    {
-        wmul_native(a, b)
     }
 }
 

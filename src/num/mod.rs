@@ -17,3 +17,4 @@ pub(crate) mod sqrtf;
 #[cfg(test)]
 pub(crate) mod test_rng;
 pub mod unit_pow;
+pub(crate) mod wide;

@@ -31,7 +31,7 @@
 //! `f32::sqrt`'s and `sqrtss`'s (the host tests compare every 97th bit
 //! pattern against `f32::sqrt`).
 
-use crate::num::fixed32::wmul;
+use crate::num::wide::wmul;
 
 /// `1/√m` estimates: entry `i` is for the mantissa's top bits `i` (the
 /// exponent's last bit and six fraction bits), in 0.16 fixed point. The
