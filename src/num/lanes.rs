@@ -321,7 +321,11 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
     /// Square root per lane.
     #[inline(always)]
     pub fn sqrt(self) -> Self {
-        self.map(S::sqrt)
+        if S::LANE_SQRT && W >= 4 {
+            Lanes(S::sqrt_lanes(self.0))
+        } else {
+            self.map(S::sqrt)
+        }
     }
     /// `self` raised to the power `e` per lane ([`Scalar::powf`]: for
     /// `self` in `[0, 1]` and `e >= 0`).

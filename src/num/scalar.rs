@@ -254,6 +254,21 @@ pub trait Scalar:
     /// Square root, correctly rounded. Negative input gives a value the caller
     /// must mask out (NaN for `f32`).
     fn sqrt(self) -> Self;
+    /// Whether packets of four lanes and more take their square roots from
+    /// [`Scalar::sqrt_lanes`] (`Lanes::sqrt`): `f32` on the firmware with
+    /// a hardware FPU, whose packets run on vector `f32` lanes (the
+    /// Cortex-M55's Helium, RISC-V's vectors).
+    const LANE_SQRT: bool = false;
+    /// [`Scalar::sqrt`] of every lane, bit for bit, in a form that
+    /// vectorises (see [`Scalar::LANE_SQRT`]); by default lane by lane.
+    #[inline(always)]
+    fn sqrt_lanes<const W: usize>(x: [Self; W]) -> [Self; W] {
+        let mut r = x;
+        for v in r.iter_mut() {
+            *v = v.sqrt();
+        }
+        r
+    }
     /// `1/√self` for `self > 0`, used by the normalisation where
     /// [`Scalar::NORMALIZE_BY_INVERSE_SQRT`] holds; other input gives a
     /// value the caller must mask out. The default divides one by the
@@ -462,6 +477,30 @@ impl Scalar for f32 {
         #[cfg(all(not(feature = "std"), not(all(target_arch = "wasm32", target_feature = "simd128"))))]
         {
             crate::num::sqrtf::sqrtf(self)
+        }
+    }
+    // `num::sqrtf`'s table and 64-bit products stay scalar on vector
+    // lanes; its lane form vectorises (the same bits: both are correctly
+    // rounded).
+    const LANE_SQRT: bool =
+        cfg!(all(not(feature = "std"), hard_float, not(all(target_arch = "wasm32", target_feature = "simd128"))));
+    #[inline(always)]
+    fn sqrt_lanes<const W: usize>(x: [f32; W]) -> [f32; W] {
+        #[cfg(all(not(feature = "std"), hard_float, not(all(target_arch = "wasm32", target_feature = "simd128"))))]
+        {
+            crate::num::sqrtf::sqrtf_lanes(x)
+        }
+        #[cfg(not(all(
+            not(feature = "std"),
+            hard_float,
+            not(all(target_arch = "wasm32", target_feature = "simd128"))
+        )))]
+        {
+            let mut r = x;
+            for v in r.iter_mut() {
+                *v = Scalar::sqrt(*v);
+            }
+            r
         }
     }
     #[inline(always)]

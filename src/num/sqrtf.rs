@@ -11,7 +11,8 @@
 //! instructions. [`sqrtf`] is the same algorithm without it, and with the
 //! rare inputs (zero, subnormals, infinity, NaN, negatives) behind one
 //! comparison. The Cortex-M55's Helium and RISC-V's vectors have no vector
-//! square root that stable Rust can reach, so packets take it lane by lane.
+//! square root that stable Rust can reach; packets there take
+//! [`sqrtf_lanes`], the same bits in a form LLVM vectorises.
 //!
 //! One copy, called: written in line at every use it made the Cortex-M55's
 //! packet frames longer (width 4: 33.4 M instructions against 32.6 M) and
@@ -130,6 +131,133 @@ fn subnormal(x: f32) -> f32 {
     libm::sqrtf(x)
 }
 
+/// Which of [`root_bits`]' two equal last steps [`sqrtf_lanes`] takes:
+/// whichever LLVM's SLP vectoriser turns into vector code on the target.
+/// For packets of 4 on Helium only the stepwise one (three steps up)
+/// became vector code, on RISC-V's vectors only the closed form; both did
+/// at 8 (checked in the disassembly: the other form stayed scalar, lane
+/// by lane).
+const CLOSED_ROUNDING: bool = cfg!(target_arch = "riscv32");
+
+/// `√x` of every lane, bit for bit [`sqrtf`]'s, in a form the vectorisers
+/// turn into vector code: no table, no 64-bit product, no branch per lane.
+/// For the packets of targets with vector `f32` lanes (the Cortex-M55's
+/// Helium, RISC-V's vectors), where [`sqrtf`] runs lane by lane: its table
+/// lookups and 32×32→64 products stay scalar there (Helium's `vmulh` is
+/// not what LLVM's vectorisers form from a 64-bit product), this is one
+/// vector sequence for four lanes (`Scalar::LANE_SQRT` for `f32`).
+///
+/// Out of line, one copy per width: written in line at every use, the
+/// vector code lost to the register pressure around it (the Cortex-M55's
+/// width 4 took 32.75 M instructions against 32.19 M, the image 14.6 KB
+/// larger; `./scripts/firmware.sh`).
+///
+/// Each lane of a positive normal `x` gets [`root_bits`]; `±0` and `+∞`
+/// are their own roots and NaN and negative numbers give NaN, as from
+/// [`sqrtf`], chosen lane by lane; positive subnormals (which no scene
+/// forms in practice) take [`sqrtf`] itself afterwards, lane by lane.
+#[inline(never)]
+#[cfg_attr(not(hard_float), allow(dead_code))]
+pub(crate) fn sqrtf_lanes<const W: usize>(x: [f32; W]) -> [f32; W] {
+    let mut out = x;
+    // (Every lane's root, then the selections, each without a branch.)
+    for o in out.iter_mut() {
+        *o = f32::from_bits(root_bits::<CLOSED_ROUNDING>(o.to_bits()));
+    }
+    // The smallest `ix − 1` (wrapping): below 2²³ − 1 exactly when some
+    // lane is a positive subnormal (a reduction, not a branch per lane).
+    let mut least = u32::MAX;
+    for (o, &v) in out.iter_mut().zip(x.iter()) {
+        let ix = v.to_bits();
+        // All-ones masks, combined with `&` and `|` (a comparison chosen
+        // with `if` or `||` became a branch per lane).
+        let mask = |c: bool| 0u32.wrapping_sub(c as u32);
+        let normal = mask(ix.wrapping_sub(0x0080_0000) < 0x7f80_0000 - 0x0080_0000);
+        // Zero keeps its sign, +∞ is itself; NaN and negatives: NaN.
+        let own = mask(ix << 1 == 0) | mask(ix == 0x7f80_0000);
+        let special = (ix & own) | (f32::NAN.to_bits() & !own);
+        least = least.min(ix.wrapping_sub(1));
+        *o = f32::from_bits((o.to_bits() & normal) | (special & !normal));
+    }
+    // Positive subnormals: 1 ..= 2²³ − 1.
+    if least < 0x007f_ffff {
+        for (o, &v) in out.iter_mut().zip(x.iter()) {
+            if v.to_bits().wrapping_sub(1) < 0x007f_ffff {
+                *o = sqrtf(v);
+            }
+        }
+    }
+    out
+}
+
+/// The bits of `√x` for the bits `ix` of a positive normal `x`, correctly
+/// rounded; another `ix` gives some value (no panic).
+///
+/// An estimate first, in `f32` arithmetic: the bit trick
+/// `y₀ = 0x5f3759df − ix/2` gives `1/√x` to 3.5 %; three Newton steps
+/// `y ← (y/2)·(3 − (x·y)·y)` bring it to a few units in the last place
+/// (the products in that order, so that no intermediate is subnormal or
+/// overflows for any normal `x`), and `s = x·y`. Then exact integer
+/// arithmetic, as in [`sqrtf`]: with `m` the significand in U2.30 (the
+/// exponent's parity folded in) and `M = m·2¹⁶`, the candidate
+/// significand `g` (24 bits, the implicit one included; `s`'s offset
+/// from the result's binade, clamped into it) has the residual
+/// `d = M − g²`, exact in wrapping 32-bit arithmetic as it is small. The
+/// candidate lies within −2 … +3 of the rounded root (found by checking
+/// every positive normal `f32`). Each step down (`d < 0`: `g` is past
+/// `⌊√M⌋`) moves `g` by one and `d` with it; after three, `g` is at most
+/// `⌊√M⌋` and at least the rounded root minus two. The rounding then adds
+/// one for each of `g + ½` and `g + 3/2` that `√M` lies past (no ties:
+/// `(g + ½)²` is not an integer), either by steps up or in closed form
+/// (`CLOSED`; the same result). The tests compare both forms with
+/// `f32::sqrt` for every 97th bit pattern; both were checked once for all
+/// 2³² patterns.
+#[inline(always)]
+#[cfg_attr(not(hard_float), allow(dead_code))]
+fn root_bits<const CLOSED: bool>(ix: u32) -> u32 {
+    let x = f32::from_bits(ix);
+    let mut y = f32::from_bits(0x5f37_59df_u32.wrapping_sub(ix >> 1));
+    for _ in 0..3 {
+        let t = (x * y) * y;
+        y = (0.5 * y) * (3.0 - t);
+    }
+    let s = x * y;
+    // `m` and the result's exponent field `ey`, as in `sqrtf`.
+    let even = ix & 0x0080_0000 != 0;
+    let m = if even { (ix << 7) & 0x7fff_ffff } else { (ix << 8) | 0x8000_0000 };
+    let ey = ((ix >> 1).wrapping_add(0x3f80_0000 >> 1)) & 0x7f80_0000;
+    // `s` in units of the result's last place, kept within its binade.
+    let k = (s.to_bits() as i32).wrapping_sub(ey as i32).clamp(0, 0x007f_ffff) as u32;
+    let mut g = k | 0x0080_0000;
+    let mut d = (m << 16).wrapping_sub(g.wrapping_mul(g)) as i32;
+    for _ in 0..3 {
+        // (g − 1)² = g² − 2(g − 1) − 1: the residual grows by 2(g − 1) + 1.
+        let down = d < 0;
+        let h = g.wrapping_sub(down as u32);
+        d = if down { d.wrapping_add(h.wrapping_mul(2).wrapping_add(1) as i32) } else { d };
+        g = h;
+    }
+    if CLOSED {
+        // The rounded root is `g`, plus one past `g + ½` (`M ≥ g² + g + 1`,
+        // that is `d > g`), plus one more past `g + 3/2` (`M ≥ g² + 3g + 3`,
+        // that is `d > 3g + 2`).
+        let half = d > g as i32;
+        let three_halves = d > g.wrapping_mul(3).wrapping_add(2) as i32;
+        g = g.wrapping_add(half as u32).wrapping_add(three_halves as u32);
+    } else {
+        // The same in steps: up to `⌊√M⌋` (`d > 2g`: `(g + 1)² ≤ M`), three
+        // times where once is enough (once `g` is the floor a step changes
+        // nothing; see `CLOSED_ROUNDING`), then one more past `g + ½`.
+        for _ in 0..3 {
+            let up = d > g.wrapping_mul(2) as i32;
+            d = if up { d.wrapping_sub(g.wrapping_mul(2).wrapping_add(1) as i32) } else { d };
+            g = g.wrapping_add(up as u32);
+        }
+        g = g.wrapping_add((d > g as i32) as u32);
+    }
+    (g & 0x007f_ffff).wrapping_add(ey)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -164,6 +292,68 @@ mod tests {
             for b in [p, p.wrapping_sub(1), p + 1, p | 0x7f_ffff, p | 0x40_0000] {
                 check(f32::from_bits(b));
             }
+        }
+    }
+
+    /// The lane routine gives `sqrtf`'s bits, that is `f32::sqrt`'s (NaN
+    /// where it gives NaN), in packets of 4 and 8 of every 97th bit
+    /// pattern, with special values and subnormals mixed into packets of
+    /// normal numbers, and on inputs whose estimate needs all three steps
+    /// down (found by checking every positive normal `f32`).
+    #[test]
+    fn sqrtf_lanes_is_the_correctly_rounded_root() {
+        fn check<const W: usize>(x: [f32; W]) {
+            let got = sqrtf_lanes(x);
+            for (g, v) in got.iter().zip(x) {
+                let want = v.sqrt();
+                if want.is_nan() {
+                    assert!(g.is_nan(), "{v:e} ({:#x}): {g:e}", v.to_bits());
+                } else {
+                    assert_eq!(g.to_bits(), want.to_bits(), "{v:e} ({:#x})", v.to_bits());
+                }
+            }
+        }
+        let mut bits = 0u32;
+        let mut next = || {
+            let b = bits;
+            bits = bits.wrapping_add(97);
+            f32::from_bits(b)
+        };
+        for _ in 0..(u32::MAX / 97 / 12) {
+            check([next(), next(), next(), next()]);
+            check([next(), next(), next(), next(), next(), next(), next(), next()]);
+        }
+        let odd = [0.0, -0.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -1.0, f32::MIN_POSITIVE, f32::MAX];
+        let sub =
+            [f32::from_bits(1), f32::from_bits(0x7f_ffff), f32::from_bits(0x40_0000), f32::from_bits(0x8000_0001)];
+        for (i, &v) in odd.iter().chain(&sub).enumerate() {
+            let mut p = [2.0, 0.25, 1.0e-30, 7.0e30];
+            p[i % 4] = v;
+            check(p);
+        }
+        check(sub);
+        // Inputs whose estimate lies three above the floor of the root.
+        check([0x0140_11a6, 0x0d40_8104, 0x1a40_11a6, 0x2640_8104].map(f32::from_bits));
+        check([0x3340_11a6, 0x3f40_8104, 0x4c40_11a6, 0x5840_8104].map(f32::from_bits));
+    }
+
+    /// Both last steps of `root_bits` (the lanes take one per target) give
+    /// `f32::sqrt`'s bits for every 97th positive normal number and for
+    /// estimates three above the floor of the root.
+    #[test]
+    fn both_roundings_of_the_lane_root_are_correct() {
+        let check = |ix: u32| {
+            let want = f32::from_bits(ix).sqrt().to_bits();
+            assert_eq!(root_bits::<true>(ix), want, "{ix:#x}, closed");
+            assert_eq!(root_bits::<false>(ix), want, "{ix:#x}, in steps");
+        };
+        let mut ix = 0x0080_0000u32;
+        while ix < 0x7f80_0000 {
+            check(ix);
+            ix += 97;
+        }
+        for ix in [0x0140_11a6, 0x0d40_8104, 0x0080_0000, 0x7f7f_ffff, 0x3f80_0000, 0x4080_0000] {
+            check(ix);
         }
     }
 
