@@ -1,7 +1,7 @@
 //! Rendering: rectangles of the image into caller-provided buffers
 //! ([`Renderer`]), band by band into sinks with pixel formats and checksums
 //! ([`bands`]), and straight into embedded-graphics displays
-//! ([`draw_target`], feature `embedded-graphics`). Built on [`crate::trace`].
+//! (`draw_target`, with the feature `embedded-graphics`). Built on [`crate::trace`].
 //!
 //! `impl Renderer` is split by output, one block per file: `renderer`
 //! (the type, and any rectangle of the image into a caller's buffer,
