@@ -206,7 +206,7 @@ pub struct ScreenCull {
 }
 
 /// The smallest power of two `S` holds (`f32`: its smallest subnormal).
-fn resolution<S: Scalar>() -> f32 {
+pub(crate) fn resolution<S: Scalar>() -> f32 {
     let mut v = 1.0f32;
     for _ in 0..160 {
         let h = v * 0.5;

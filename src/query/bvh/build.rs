@@ -7,6 +7,7 @@
 use super::node::{BvhNode, BvhStats, MAX_DEPTH};
 use crate::geom::vec3::Vec3;
 use crate::num::scalar::Scalar;
+use crate::query::cull::resolution;
 use crate::scene::SceneView;
 
 /// Most bins a build may use per axis.
@@ -145,8 +146,15 @@ fn box_to_node<S: Scalar>(b: &Aabb) -> (Vec3<S>, Vec3<S>) {
 
 /// The bounded primitives first in `order` (index order), then the
 /// unbounded ones; returns the number of bounded primitives and the box
-/// padding: 2⁻¹⁶ of the scene's scale (its largest bounded coordinate, or
-/// `reach` if larger), never zero.
+/// padding: 2⁻¹⁶ of the scene's scale `s` (its largest bounded coordinate,
+/// or `reach` if larger), never zero, plus `8·√(ρ·(1 + s))` for a scalar of
+/// resolution `ρ` (the smallest power of two it holds). That second term is
+/// the screen culling's for fixed point's absolute rounding of squared
+/// distances (`query::cull`): a sphere's discriminant `r² − |perp|²` is
+/// rounded to `ρ`, so a ray passing within about `√ρ` of a sphere can
+/// report it, which at small scales is far more than 2⁻¹⁶ of the scene
+/// (Q8.24 at a scene size of 0.1: `√ρ = 2⁻¹²` against `1.5·10⁻⁶`). In
+/// `f32` (`ρ = 2⁻¹⁴⁹`) it is far below a rounding of the first term.
 fn order_bounded_first<S: Scalar>(scene: &SceneView<'_, S>, reach: f32, order: &mut [u32]) -> (usize, f32) {
     let n = order.len();
     let mut scale = if reach.is_finite() { reach.abs() } else { 0.0 };
@@ -175,7 +183,8 @@ fn order_bounded_first<S: Scalar>(scene: &SceneView<'_, S>, reach: f32, order: &
             next += 1;
         }
     }
-    (bounded, (scale * (1.0 / 65536.0)).max(f32::MIN_POSITIVE))
+    let fixed = 8.0 * libm::sqrtf(resolution::<S>() * (1.0 + scale));
+    (bounded, (scale * (1.0 / 65536.0) + fixed).max(f32::MIN_POSITIVE))
 }
 
 /// The costs and bins of a build, from its settings.

@@ -29,7 +29,11 @@
 //! `scale · 2⁻¹⁶`, `scale` being the largest absolute coordinate of the
 //! scene's bounded primitives or [`BuildSettings::reach`] if larger. The
 //! kernels' own rounding is a few ulps of `|origin| + t`, far below that pad
-//! for rays that start within a few hundred scene sizes of the origin.
+//! for rays that start within a few hundred scene sizes of the origin. Fixed
+//! point rounds absolutely, not relatively: the pad also holds
+//! `8·√(ρ·(1 + scale))` for a scalar of resolution `ρ` (a ray passing within
+//! about `√ρ` of a sphere can report it), which is what screen culling
+//! allows for too (`query::cull`); in `f32` that term is nothing.
 //!
 //! # Determinism
 //! The build works in `f32` (whatever `S` is) with a fixed operation order and
