@@ -7,13 +7,15 @@
 //! beside grazing spheres, lights inside and beside primitives, and tiny
 //! and huge scales. Culled renders cull camera rays (`ScreenCull`) and, in
 //! Whitted colour renders, shadow rays (`ShadowCull`). The same cases
-//! rendered through a BVH give the same bytes too.
+//! rendered through a BVH, and through a BVH with camera tiles
+//! (`CameraTiles`, tiles of 4 × 4 pixels), give the same bytes too.
 
 mod common;
 use common::*;
+use raypack::camera::packet_shape;
 use raypack::lanes::{Lanes, Mask};
 use raypack::prelude::*;
-use raypack::query::{HeapBvh, Hit, ScreenCull, ShadowCull};
+use raypack::query::{HeapBvh, HeapCameraTiles, Hit, ScreenCull, ShadowCull, TileSettings};
 use raypack::ray::RayPacket;
 use raypack::{Fixed, Fixed32};
 
@@ -79,15 +81,41 @@ fn check<S: Scalar>(scene: &SceneView<'_, S>, camera: Camera<S>, what: &str, rng
     assert_eq!(render::<S, _, 4>(BruteForce, scene, camera, mode, aov, sampling), reference, "{label} width 4");
     assert_eq!(render::<S, _, 8>(BruteForce, scene, camera, mode, aov, sampling), reference, "{label} width 8");
     assert_eq!(render::<S, _, 16>(BruteForce, scene, camera, mode, aov, sampling), reference, "{label} width 16");
-    // Through a tree (its boxes padded for rays from the eye, as the CLI's are).
+    // Through a tree (its boxes padded for rays from the eye, as the CLI's
+    // are), then with camera tiles of 4 × 4 pixels, lists of any length.
     let reach = camera.eye().to_f32().iter().fold(0.0f32, |m, c| m.max(c.abs()));
     let bvh = HeapBvh::build_with(scene, &BuildSettings { reach, ..BuildSettings::default() }).unwrap();
+    let tiles = HeapCameraTiles::build(scene, &camera, TileSettings { shift: 2, budget: u32::MAX }).unwrap();
+    let tiles = tiles.view();
     let tree = bvh.view();
     assert_eq!(render::<S, _, 1>(tree, scene, camera, mode, aov, sampling), reference, "{label} tree, width 1");
     assert_eq!(render::<S, _, 4>(tree, scene, camera, mode, aov, sampling), reference, "{label} tree, width 4");
     assert_eq!(render::<S, _, 8>(tree, scene, camera, mode, aov, sampling), reference, "{label} tree, width 8");
     assert_eq!(render::<S, _, 16>(tree, scene, camera, mode, aov, sampling), reference, "{label} tree, width 16");
+    let tree = tree.with_camera_tiles(&tiles);
+    assert_eq!(render::<S, _, 1>(tree, scene, camera, mode, aov, sampling), reference, "{label} tiles, width 1");
+    assert_eq!(render::<S, _, 4>(tree, scene, camera, mode, aov, sampling), reference, "{label} tiles, width 4");
+    assert_eq!(render::<S, _, 8>(tree, scene, camera, mode, aov, sampling), reference, "{label} tiles, width 8");
+    assert_eq!(render::<S, _, 16>(tree, scene, camera, mode, aov, sampling), reference, "{label} tiles, width 16");
+    // How many of the camera packets of 4 took a tile's list (the rest
+    // walked the tree): the test must exercise the lists.
+    let (pw, ph) = packet_shape(4);
+    let (mut listed, mut packets) = (0, 0);
+    for y in (0..camera.height()).step_by(ph as usize) {
+        for x in (0..camera.width()).step_by(pw as usize) {
+            let (ray, active) = camera.packet::<4>(x, y, camera.full_rect());
+            packets += 1;
+            listed += usize::from(tiles.list(&ray, active).is_some());
+        }
+    }
+    LISTED.with(|c| c.set((c.get().0 + listed, c.get().1 + packets)));
     ScreenCull::new(scene, &camera).map(|c| c.bounded()).unwrap_or(0)
+}
+
+thread_local! {
+    /// Camera packets of 4 that took a tile's list, of those formed, in
+    /// this thread's cases so far.
+    static LISTED: std::cell::Cell<(usize, usize)> = const { std::cell::Cell::new((0, 0)) };
 }
 
 /// A camera for `S` from `f32` numbers (`None` where `S` refuses it).
@@ -160,6 +188,10 @@ fn random_cases<S: Scalar>(seed: u64, cases: u32, scale: f32, name: &str) {
         ran += 1;
     }
     assert!(ran >= cases / 2, "{name}: only {ran} of {cases} cases could be built");
+    // Most camera packets took a tile's list (those that did not straddle
+    // tiles or left the eye's view; cameras inside a primitive included).
+    let (listed, packets) = LISTED.with(|c| c.replace((0, 0)));
+    assert!(listed * 2 > packets, "{name}: {listed} of {packets} camera packets took a tile's list");
     // Culling did something: most primitives are bounded and in front.
     assert!(bounded > ran as usize, "{name}: {bounded} bounded rectangles in {ran} cases");
 }

@@ -13,6 +13,9 @@
 //!   to the primitives whose screen rectangle it overlaps; brute force
 //!   takes the narrowed set ([`Accelerator::closest_hit_among`]), the tree
 //!   has no use for it;
+//! - [`CameraTiles`] (module [`camera_tiles`]) gives the tree, per tile of
+//!   the image, the short list of primitives its camera rays can hit, which
+//!   a packet of camera rays inside the tile tests instead of walking;
 //! - [`AccelChoice`] is either of the two, chosen at run time (the CLI's
 //!   `--accel`), for programs that want both without two compiled copies of
 //!   the renderer.
@@ -30,6 +33,7 @@ mod accel_choice;
 mod accelerator;
 mod brute;
 pub mod bvh;
+pub mod camera_tiles;
 pub mod cull;
 
 pub use accel_choice::AccelChoice;
@@ -38,4 +42,7 @@ pub use brute::BruteForce;
 pub use bvh::{BuildSettings, Bvh, BvhError, BvhStats, BvhView};
 #[cfg(feature = "std")]
 pub use bvh::{HeapBvh, HeapBvhError};
+pub use camera_tiles::CameraTiles;
+#[cfg(feature = "std")]
+pub use camera_tiles::{HeapCameraTiles, TileSettings};
 pub use cull::{Candidates, CullError, ScreenCull, ShadowCull};

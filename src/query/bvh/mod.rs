@@ -50,6 +50,7 @@ mod traverse;
 mod tests;
 
 use crate::num::scalar::Scalar;
+use crate::query::camera_tiles::CameraTiles;
 use crate::scene::SceneView;
 
 pub use build::BuildSettings;
@@ -143,6 +144,7 @@ fn view_of<'a, S>(nodes: &'a [BvhNode<S>], order: &'a [u32], stats: BvhStats) ->
         // must not have one.)
         order: order.get(..stats.primitives as usize).unwrap_or(&[]),
         bounded: stats.primitives - stats.unbounded,
+        camera: None,
     }
 }
 
@@ -156,9 +158,19 @@ pub struct BvhView<'a, S> {
     order: &'a [u32],
     /// Length of the bounded part of `order`.
     bounded: u32,
+    /// Lists for packets of camera rays, if given.
+    camera: Option<&'a CameraTiles<'a, S>>,
 }
 
 impl<'a, S: Scalar> BvhView<'a, S> {
+    /// The same tree, with `tiles` of the scene it was built for: a packet
+    /// of camera rays inside one tile with a list tests that list instead
+    /// of walking the tree (the same bits: see
+    /// [`camera_tiles`](crate::query::camera_tiles)).
+    pub fn with_camera_tiles(self, tiles: &'a CameraTiles<'a, S>) -> Self {
+        BvhView { camera: Some(tiles), ..self }
+    }
+
     /// Number of primitives the tree was built for.
     pub fn primitive_count(&self) -> usize {
         self.order.len()

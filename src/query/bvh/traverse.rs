@@ -73,6 +73,13 @@ impl<S: Scalar, const W: usize> SlabRays<S, W> {
         SlabRays { origin: ray.origin, inv_dir, dir_neg: [d.x < S::ZERO, d.y < S::ZERO, d.z < S::ZERO] }
     }
 
+    /// Slab rays for a walk that visits no node ([`Start::List`]): no
+    /// reciprocals worked out.
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    fn unused(ray: &RayPacket<S, W>) -> Self {
+        SlabRays { origin: ray.origin, inv_dir: ray.dir, dir_neg: [false; 3] }
+    }
+
     /// Lanes of `active` whose segment `[t_min, t_far]` meets the box.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     fn hits(&self, node: &BvhNode<S>, t_min: Lanes<S, W>, t_far: Lanes<S, W>, active: Mask<W>) -> Mask<W> {
@@ -152,22 +159,27 @@ trait LeafVisitor<S, const W: usize> {
 /// nearest child first. The visitor's state is re-read at every node so
 /// that closer hits prune the rest and a finished query stops.
 #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
-fn walk<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(
-    bvh: &BvhView<'_, S>,
+fn walk<'a, S: Scalar, const W: usize, V: LeafVisitor<S, W>>(
+    bvh: &BvhView<'a, S>,
     slab: &SlabRays<S, W>,
     t_min: Lanes<S, W>,
     outside: Mask<W>,
     visitor: &mut V,
+    start: Start<'a>,
 ) {
     // The builder bounds the depth by MAX_DEPTH, and each level leaves at
     // most one sibling on the stack.
     // (A `heapless::Vec`, so that nothing is zeroed per query.)
     let mut stack: HVec<u32, { MAX_DEPTH + 1 }> = HVec::new();
     // The next node to visit (the root first, if the tree has nodes) and the
-    // leaf to test before it (the primitives outside the tree first): one
-    // call site for the leaf tests, so they are compiled once.
-    let mut next = if bvh.nodes.is_empty() { None } else { Some(0u32) };
-    let (mut leaf, mut leaf_mask) = (bvh.unbounded(), outside);
+    // leaf to test before it (the primitives outside the tree first, or a
+    // camera tile's list and no node): one call site for the leaf tests, so
+    // they are compiled once.
+    let (mut next, mut leaf) = match start {
+        Start::Root => (if bvh.nodes.is_empty() { None } else { Some(0u32) }, bvh.unbounded()),
+        Start::List(ids) => (None, ids),
+    };
+    let mut leaf_mask = outside;
     loop {
         if !leaf.is_empty() {
             visitor.leaf(leaf, leaf_mask);
@@ -205,6 +217,15 @@ fn walk<S: Scalar, const W: usize, V: LeafVisitor<S, W>>(
             return;
         }
     }
+}
+
+/// Where [`walk`] starts.
+#[derive(Clone, Copy)]
+enum Start<'a> {
+    /// The primitives outside the tree, then the root.
+    Root,
+    /// Only these primitives (a camera tile's list): no node.
+    List(&'a [u32]),
 }
 
 /// Closest-hit query state: per lane the nearest root so far and its
@@ -358,9 +379,13 @@ impl<S: Scalar> Accelerator<S> for BvhView<'_, S> {
         let mut q =
             ClosestHit { scene, ray, t_min, active, best_t: t_max, best_id: [u32::MAX; W], found: Mask::splat(false) };
         if active.any() {
-            // Primitives outside the tree first, then the tree.
-            let slab = SlabRays::new(ray, active);
-            walk(self, &slab, t_min, active, &mut q);
+            // A packet of camera rays in one tile: its list. Otherwise the
+            // primitives outside the tree first, then the tree.
+            let (start, slab) = match self.camera.and_then(|c| c.list(ray, active)) {
+                Some(ids) => (Start::List(ids), SlabRays::unused(ray)),
+                None => (Start::Root, SlabRays::new(ray, active)),
+            };
+            walk(self, &slab, t_min, active, &mut q, start);
         }
         Hit { t: q.best_t, prim: q.best_id, mask: q.found }
     }
@@ -391,7 +416,7 @@ impl<S: Scalar> Accelerator<S> for BvhView<'_, S> {
         let mut q = Shadow { scene, ray, t_min, t_max, live: active, records: &mut records, overflow: false };
         // Primitives outside the tree first, then the tree.
         let slab = SlabRays::new(ray, active);
-        walk(self, &slab, t_min, active, &mut q);
+        walk(self, &slab, t_min, active, &mut q, Start::Root);
         let live = q.live;
         if live.none() {
             return zero;
