@@ -260,10 +260,11 @@ mod heap {
             (self.starts.capacity() + self.ids.capacity()) * core::mem::size_of::<u32>()
         }
 
-        /// How many tiles have a list, of how many.
+        /// How many tiles have a list that is not empty, of how many.
         pub fn tiles_with_lists(&self) -> (usize, usize) {
             let n = self.starts.len().saturating_sub(1);
-            (self.starts.iter().take(n).filter(|&&s| s & NO_LIST == 0).count(), n)
+            let listed = self.starts.windows(2).filter(|s| s[0] & NO_LIST == 0 && s[0] != s[1] & !NO_LIST).count();
+            (listed, n)
         }
     }
 }
@@ -344,5 +345,12 @@ mod tests {
         assert_eq!(short.list(&ray, active), Some(&[1u32][..]));
         assert_eq!(tiles(1).tiles_with_lists().1, 100);
         assert!(tiles(1).tiles_with_lists().0 < 100);
+        // Empty lists do not count: a sphere alone leaves most tiles empty.
+        let mut s = Small::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        s.add_sphere(Vec3::new(0.0, 0.0, -10.0), 0.5, m).unwrap();
+        let alone = HeapCameraTiles::build(&s.view(), &cam, TileSettings { shift: 2, budget: 8 }).unwrap();
+        let (listed, all) = alone.tiles_with_lists();
+        assert!((1..=9).contains(&listed) && all == 100, "{listed} of {all}");
     }
 }
