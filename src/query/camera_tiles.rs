@@ -82,9 +82,18 @@ pub struct CameraTiles<'a, S> {
     /// tile without one), then the end of the last list.
     starts: &'a [u32],
     ids: &'a [u32],
+    /// The primitives of the scene the lists were made for.
+    primitives: usize,
 }
 
 impl<'a, S: Scalar> CameraTiles<'a, S> {
+    /// How many primitives the scene had that the tiles were made for (a
+    /// tree with tiles of another scene fails its
+    /// [`check`](crate::query::Accelerator::check)).
+    pub fn primitives(&self) -> usize {
+        self.primitives
+    }
+
     /// The list of the tile every active lane of `ray` lies in, if `ray`
     /// is a packet of camera rays inside one tile that has a list.
     #[inline(always)]
@@ -179,6 +188,7 @@ mod heap {
         cols: u32,
         starts: Vec<u32>,
         ids: Vec<u32>,
+        primitives: usize,
     }
 
     impl<S: Scalar> HeapCameraTiles<S> {
@@ -247,12 +257,19 @@ mod heap {
                     }
                 }
             }
-            Some(HeapCameraTiles { view, shift, cols, starts, ids })
+            Some(HeapCameraTiles { view, shift, cols, starts, ids, primitives: scene.primitives().len() })
         }
 
         /// The tiles as slices, for [`BvhView::with_camera_tiles`](crate::query::BvhView::with_camera_tiles).
         pub fn view(&self) -> CameraTiles<'_, S> {
-            CameraTiles { view: self.view, shift: self.shift, cols: self.cols, starts: &self.starts, ids: &self.ids }
+            CameraTiles {
+                view: self.view,
+                shift: self.shift,
+                cols: self.cols,
+                starts: &self.starts,
+                ids: &self.ids,
+                primitives: self.primitives,
+            }
         }
 
         /// Bytes of heap the tiles hold.
@@ -313,6 +330,21 @@ mod tests {
         assert_eq!(active.count(), 4);
         assert_eq!(t.list(&ray, active), Some(&[1u32][..]));
         assert_eq!(tiles(8).tiles_with_lists(), (100, 100));
+    }
+
+    #[test]
+    fn a_tree_with_another_scenes_tiles_fails_its_check() {
+        use crate::query::{Accelerator, HeapBvh};
+        let (s, cam) = (scene(), camera());
+        let mut more = scene();
+        let m = more.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        more.add_sphere(Vec3::new(2.0, 0.0, -10.0), 0.5, m).unwrap();
+        let tree = HeapBvh::build_with(&s.view(), &Default::default()).unwrap();
+        let (own, other) = (tiles(8), HeapCameraTiles::build(&more.view(), &cam, TileSettings::default()).unwrap());
+        let (own, other) = (own.view(), other.view());
+        assert!(tree.view().with_camera_tiles(&own).check(&s.view()).is_ok());
+        let e = tree.view().with_camera_tiles(&other).check(&s.view()).unwrap_err();
+        assert_eq!((e.built_for, e.scene_has), (3, 2));
     }
 
     #[test]

@@ -347,12 +347,15 @@ impl<'a, S: Scalar> BvhView<'a, S> {
 
 impl<S: Scalar> Accelerator<S> for BvhView<'_, S> {
     fn check(&self, scene: &SceneView<'_, S>) -> Result<(), SceneMismatch> {
-        let (built_for, scene_has) = (self.primitive_count(), scene.primitives().len());
-        if built_for == scene_has {
-            Ok(())
-        } else {
-            Err(SceneMismatch { built_for, scene_has })
+        // The tree, and its camera tiles if it has them, for this scene.
+        let scene_has = scene.primitives().len();
+        let tiles = self.camera.map_or(scene_has, |c| c.primitives());
+        for built_for in [self.primitive_count(), tiles] {
+            if built_for != scene_has {
+                return Err(SceneMismatch { built_for, scene_has });
+            }
         }
+        Ok(())
     }
 
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
