@@ -333,21 +333,6 @@ mod tests {
     }
 
     #[test]
-    fn a_tree_with_another_scenes_tiles_fails_its_check() {
-        use crate::query::{Accelerator, HeapBvh};
-        let (s, cam) = (scene(), camera());
-        let mut more = scene();
-        let m = more.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
-        more.add_sphere(Vec3::new(2.0, 0.0, -10.0), 0.5, m).unwrap();
-        let tree = HeapBvh::build_with(&s.view(), &Default::default()).unwrap();
-        let (own, other) = (tiles(8), HeapCameraTiles::build(&more.view(), &cam, TileSettings::default()).unwrap());
-        let (own, other) = (own.view(), other.view());
-        assert!(tree.view().with_camera_tiles(&own).check(&s.view()).is_ok());
-        let e = tree.view().with_camera_tiles(&other).check(&s.view()).unwrap_err();
-        assert_eq!((e.built_for, e.scene_has), (3, 2));
-    }
-
-    #[test]
     fn other_rays_and_long_lists_walk_the_tree() {
         let (t, cam) = (tiles(8), camera());
         let t = t.view();

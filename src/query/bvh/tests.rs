@@ -393,3 +393,29 @@ fn empty_and_unbounded_only_scenes() {
 fn node_is_32_bytes_for_f32() {
     assert_eq!(core::mem::size_of::<BvhNode<f32>>(), 32);
 }
+
+#[test]
+#[cfg(feature = "std")]
+fn a_tree_with_another_scenes_camera_tiles_fails_its_check() {
+    use crate::geom::camera::Camera;
+    use crate::query::{HeapCameraTiles, TileSettings};
+    let scene = |spheres: u32| {
+        let mut s = Big::new();
+        let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
+        for k in 0..spheres {
+            s.add_sphere(Vec3::new(k as f32, 0.0, -10.0), 0.5, m).unwrap();
+        }
+        s
+    };
+    let (s, more) = (scene(2), scene(3));
+    let up = Vec3::new(0.0, 1.0, 0.0);
+    let cam = Camera::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), up, 90.0, 40, 40).unwrap();
+    let mut tree = Bvh::<f32, 256>::new();
+    tree.build(&s.view()).unwrap();
+    let own = HeapCameraTiles::build(&s.view(), &cam, TileSettings::default()).unwrap();
+    let other = HeapCameraTiles::build(&more.view(), &cam, TileSettings::default()).unwrap();
+    let (own, other) = (own.view(), other.view());
+    assert!(tree.view().with_camera_tiles(&own).check(&s.view()).is_ok());
+    let e = tree.view().with_camera_tiles(&other).check(&s.view());
+    assert_eq!(e, Err(SceneMismatch { built_for: 3, scene_has: 2 }));
+}
