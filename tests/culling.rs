@@ -85,7 +85,9 @@ fn check<S: Scalar>(scene: &SceneView<'_, S>, camera: Camera<S>, what: &str, rng
     // are), then with camera tiles of 4 × 4 pixels, lists of any length.
     let reach = camera.eye().to_f32().iter().fold(0.0f32, |m, c| m.max(c.abs()));
     let bvh = HeapBvh::build_with(scene, &BuildSettings { reach, ..BuildSettings::default() }).unwrap();
-    let tiles = HeapCameraTiles::build(scene, &camera, TileSettings { shift: 2, budget: u32::MAX }).unwrap();
+    let tiles =
+        HeapCameraTiles::build(scene, &camera, TileSettings { shift: 2, budget: u32::MAX, min_listed_percent: 0 })
+            .unwrap();
     let tiles = tiles.view();
     let tree = bvh.view();
     assert_eq!(render::<S, _, 1>(tree, scene, camera, mode, aov, sampling), reference, "{label} tree, width 1");

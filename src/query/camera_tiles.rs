@@ -148,7 +148,8 @@ mod heap {
     use crate::scene::SceneView;
     use std::vec::Vec;
 
-    /// How [`HeapCameraTiles`] cuts the image.
+    /// How [`HeapCameraTiles`] cuts the image, and when its tiles are worth
+    /// having.
     #[derive(Clone, Copy, Debug, PartialEq, Eq)]
     pub struct TileSettings {
         /// Tiles are `2^shift` pixels square.
@@ -158,13 +159,20 @@ mod heap {
         /// walk the tree, which skips the primitives whose boxes a ray
         /// misses).
         pub budget: u32,
+        /// The least share of the tiles, in per cent, that must have a list
+        /// that is not empty for the tiles to be built at all: below it most
+        /// packets would work out their tile for nothing.
+        pub min_listed_percent: u32,
     }
 
     impl Default for TileSettings {
-        /// Tiles of 16 × 16 pixels with at most 8 sphere tests' work each
-        /// (chosen by measurement: docs/performance.md, "Camera tiles").
+        /// Tiles of 16 × 16 pixels with at most 8 sphere tests' work each,
+        /// built where at least half of them list something (chosen by
+        /// measurement: docs/performance.md, "Camera tiles": gears-2, whose
+        /// polygons' lists are long, and sombrero-1, whose tiles with lists
+        /// are the empty sky, were 2–9 % slower with tiles).
         fn default() -> Self {
-            TileSettings { shift: 4, budget: 8 }
+            TileSettings { shift: 4, budget: 8, min_listed_percent: 50 }
         }
     }
 
@@ -191,10 +199,19 @@ mod heap {
         primitives: usize,
     }
 
+    /// An empty `Vec` with room for `n`, or `None` if the allocator refuses.
+    fn with_room<T>(n: usize) -> Option<Vec<T>> {
+        let mut v = Vec::new();
+        v.try_reserve_exact(n).ok()?;
+        Some(v)
+    }
+
     impl<S: Scalar> HeapCameraTiles<S> {
-        /// The tiles of `scene` seen by `camera`; `None` if the lists would
-        /// not fit their `u32` indices or the allocator refuses them (the
-        /// tree then answers every packet, as without tiles).
+        /// The tiles of `scene` seen by `camera`; `None` if fewer tiles
+        /// than [`TileSettings::min_listed_percent`] would list something,
+        /// if the lists would not fit their `u32` indices, or if the
+        /// allocator refuses them (the tree then answers every packet, as
+        /// without tiles).
         pub fn build(scene: &SceneView<'_, S>, camera: &Camera<S>, settings: TileSettings) -> Option<Self> {
             let shift = settings.shift.min(15);
             let view = Projection::new(camera);
@@ -203,56 +220,60 @@ mod heap {
             let cols = view.w.div_ceil(1 << shift);
             let rows = view.h.div_ceil(1 << shift);
             let n = (cols as usize).checked_mul(rows as usize)?;
+            // The tiles a rectangle meets, by index.
+            let tiles = |r: [u32; 4]| {
+                let (c0, c1) = (r[0] >> shift, (r[1] >> shift).min(cols - 1));
+                let (r0, r1) = (r[2] >> shift, (r[3] >> shift).min(rows - 1));
+                (r0..=r1).flat_map(move |row| (c0..=c1).map(move |col| (row * cols + col) as usize))
+            };
+            // Each primitive's rectangle, projected once for both passes.
+            let mut rects = with_room(scene.primitives().len())?;
+            rects.extend(screen_rects(scene, camera));
             // First pass: how many primitives each tile lists, and their
             // test work.
-            let mut count: Vec<(u32, u32)> = Vec::new();
-            count.try_reserve_exact(n).ok()?;
+            let mut count: Vec<(u32, u32)> = with_room(n)?;
             count.resize(n, (0, 0));
-            let tiles_of = |r: [u32; 4]| (r[0] >> shift, r[1] >> shift, r[2] >> shift, r[3] >> shift);
-            for (r, p) in screen_rects(scene, camera).zip(scene.primitives()) {
-                let Some(r) = r else { continue };
+            for (r, p) in rects.iter().zip(scene.primitives()) {
+                let Some(r) = *r else { continue };
                 let weight = test_weight(&p.shape);
-                let (c0, c1, r0, r1) = tiles_of(r);
-                for row in r0..=r1.min(rows.saturating_sub(1)) {
-                    for col in c0..=c1.min(cols.saturating_sub(1)) {
-                        if let Some((c, w)) = count.get_mut((row * cols + col) as usize) {
-                            *c = c.saturating_add(1);
-                            *w = w.saturating_add(weight);
-                        }
+                for t in tiles(r) {
+                    if let Some((c, w)) = count.get_mut(t) {
+                        *c = c.saturating_add(1);
+                        *w = w.saturating_add(weight);
                     }
                 }
             }
-            // Starts: tiles over the budget keep no list.
-            let mut starts: Vec<u32> = Vec::new();
-            starts.try_reserve_exact(n + 1).ok()?;
+            let listed = count.iter().filter(|&&(c, w)| c > 0 && w <= settings.budget).count();
+            if (listed as u64) * 100 < n as u64 * settings.min_listed_percent as u64 {
+                return None;
+            }
+            // Starts (tiles over the budget keep no list); each tile's count
+            // becomes the cursor where its next entry goes.
+            let mut starts: Vec<u32> = with_room(n + 1)?;
             let mut total: u32 = 0;
-            for &(c, weight) in &count {
-                if weight > settings.budget {
+            for (c, weight) in count.iter_mut() {
+                if *weight > settings.budget {
                     starts.push(total | NO_LIST);
                 } else {
                     starts.push(total);
-                    total = total.checked_add(c).filter(|t| t & NO_LIST == 0)?;
+                    let first = total;
+                    total = total.checked_add(*c).filter(|t| t & NO_LIST == 0)?;
+                    *c = first;
                 }
             }
             starts.push(total);
             // Second pass: the lists, each in index order.
-            let mut ids: Vec<u32> = Vec::new();
-            ids.try_reserve_exact(total as usize).ok()?;
+            let mut ids: Vec<u32> = with_room(total as usize)?;
             ids.resize(total as usize, 0);
-            let mut next: Vec<u32> = starts.iter().take(n).map(|&s| s & !NO_LIST).collect();
-            for (k, r) in screen_rects(scene, camera).enumerate() {
-                let Some(r) = r else { continue };
-                let (c0, c1, r0, r1) = tiles_of(r);
-                for row in r0..=r1.min(rows.saturating_sub(1)) {
-                    for col in c0..=c1.min(cols.saturating_sub(1)) {
-                        let t = (row * cols + col) as usize;
-                        if starts.get(t).is_some_and(|&s| s & NO_LIST == 0) {
-                            if let Some(at) = next.get_mut(t) {
-                                if let Some(slot) = ids.get_mut(*at as usize) {
-                                    *slot = k as u32;
-                                }
-                                *at += 1;
+            for (k, r) in rects.iter().enumerate() {
+                let Some(r) = *r else { continue };
+                for t in tiles(r) {
+                    if starts.get(t).is_some_and(|&s| s & NO_LIST == 0) {
+                        if let Some((at, _)) = count.get_mut(t) {
+                            if let Some(slot) = ids.get_mut(*at as usize) {
+                                *slot = k as u32;
                             }
+                            *at += 1;
                         }
                     }
                 }
@@ -310,7 +331,8 @@ mod tests {
     }
 
     fn tiles(budget: u32) -> HeapCameraTiles<f32> {
-        HeapCameraTiles::build(&scene().view(), &camera(), TileSettings { shift: 2, budget }).unwrap()
+        HeapCameraTiles::build(&scene().view(), &camera(), TileSettings { shift: 2, budget, min_listed_percent: 0 })
+            .unwrap()
     }
 
     #[test]
@@ -366,8 +388,14 @@ mod tests {
         let mut s = Small::new();
         let m = s.add_material(Material::diffuse(Vec3::new(1.0, 1.0, 1.0))).unwrap();
         s.add_sphere(Vec3::new(0.0, 0.0, -10.0), 0.5, m).unwrap();
-        let alone = HeapCameraTiles::build(&s.view(), &cam, TileSettings { shift: 2, budget: 8 }).unwrap();
+        let alone =
+            HeapCameraTiles::build(&s.view(), &cam, TileSettings { shift: 2, budget: 8, min_listed_percent: 0 })
+                .unwrap();
         let (listed, all) = alone.tiles_with_lists();
         assert!((1..=9).contains(&listed) && all == 100, "{listed} of {all}");
+        // And with at least half the tiles asked to list something, no tiles.
+        let half = TileSettings { shift: 2, budget: 8, min_listed_percent: 50 };
+        assert!(HeapCameraTiles::build(&s.view(), &cam, half).is_none());
+        assert!(HeapCameraTiles::build(&scene().view(), &cam, half).is_some());
     }
 }

@@ -412,8 +412,9 @@ fn a_tree_with_another_scenes_camera_tiles_fails_its_check() {
     let cam = Camera::new(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), up, 90.0, 40, 40).unwrap();
     let mut tree = Bvh::<f32, 256>::new();
     tree.build(&s.view()).unwrap();
-    let own = HeapCameraTiles::build(&s.view(), &cam, TileSettings::default()).unwrap();
-    let other = HeapCameraTiles::build(&more.view(), &cam, TileSettings::default()).unwrap();
+    let all = TileSettings { min_listed_percent: 0, ..TileSettings::default() };
+    let own = HeapCameraTiles::build(&s.view(), &cam, all).unwrap();
+    let other = HeapCameraTiles::build(&more.view(), &cam, all).unwrap();
     let (own, other) = (own.view(), other.view());
     assert!(tree.view().with_camera_tiles(&own).check(&s.view()).is_ok());
     let e = tree.view().with_camera_tiles(&other).check(&s.view());
