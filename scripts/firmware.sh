@@ -180,11 +180,13 @@ for entry in "${BOARDS[@]}"; do
   cargo build -q --profile "$profile" "${sel[@]}" --target "$triple" || die "$board: build failed"
 
   say "$board: sizes"
-  "$LLVM_SIZE" -A "$elf" | grep -E '^(section|\.vector_table|\.boot2|\.text|\.rodata|\.data|\.bss|\.uninit|\.init)' || true
+  "$LLVM_SIZE" -A "$elf" | grep -E '^(section|\.vector_table|\.boot2|\.text|\.rodata|\.data|\.bss|\.uninit|\.init|\.ram_code)' || true
   sec() { "$LLVM_SIZE" -A "$elf" | awk -v s="$1" '$1 == s { print $2; f = 1 } END { if (!f) print 0 }'; }
-  text=$(( $(sec .text) + $(sec .init) + $(sec .vector_table) + $(sec .boot2) ))
+  # `.ram_code` (the Pico: the renderer's code, stored in flash and run
+  # from SRAM) counts in both: flash and RAM.
+  text=$(( $(sec .text) + $(sec .init) + $(sec .vector_table) + $(sec .boot2) + $(sec .ram_code) ))
   rodata=$(sec .rodata)
-  dataplusbss=$(( $(sec .data) + $(sec .bss) + $(sec .uninit) ))
+  dataplusbss=$(( $(sec .data) + $(sec .bss) + $(sec .uninit) + $(sec .ram_code) ))
   echo "biggest code and read-only symbols ($(basename "$LLVM_NM") --size-sort -S --demangle, top 10):"
   "$LLVM_NM" --size-sort -S --demangle "$elf" | awk '$3 ~ /^[tTrR]$/' | tail -n 10 | tac \
     | while read -r _addr size _type name; do printf '  %8d  %s\n' "$((16#$size))" "${name:0:110}"; done \
@@ -229,6 +231,21 @@ for entry in "${BOARDS[@]}"; do
   if [ "$qemu" = "-" ]; then
     say "$board: not run (no QEMU machine for it)"
     out=""; wall=-; match="not run"
+    # The Pico runs the renderer from SRAM (memory.x's `.ram_code`, copied
+    # by `main`; docs/firmware.md, "XIP cache misses on the RP2040"): its
+    # segment loads from flash and runs in RAM, and every function of
+    # raypack and of the common crate is in it.
+    if [ "$board" = rp2040-pico-display ]; then
+      say "$board: the renderer's code is linked to run from SRAM"
+      sect=$("$LLVM_OBJDUMP" -h "$elf" | awk '$2 == ".ram_code" { print $3, $4, $5 }')
+      echo ".ram_code (size, run at, stored at): ${sect:-none}"
+      read -r size vma lma <<<"$sect"
+      [ -n "${lma:-}" ] && (( 16#$vma == 0x20000000 && 16#$lma >= 0x10000100 && 16#$lma + 16#$size <= 0x10200000 )) \
+        || die "$board: no .ram_code run at 0x20000000 and stored in flash"
+      stray=$("$LLVM_NM" "$elf" | awk '$2 ~ /^[tT]$/ && $3 ~ /^_ZN(7raypack|23raypack_firmware_common)/ && $1 !~ /^200/' | head -n 3)
+      [ -z "$stray" ] || die "$board: functions of the renderer outside SRAM: $stray"
+      echo "every function of raypack and raypack_firmware_common at 0x2000_0000 and up"
+    fi
   else
     # Determinism: every board runs twice, the two runs side by side (QEMU
     # under -icount runs the guest on one host thread, so on the 2-core CI
