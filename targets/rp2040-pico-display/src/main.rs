@@ -307,13 +307,14 @@ extern "C" {
     static __siram_code: u32;
 }
 
-/// Copies the renderer's code (`raypack` and `raypack_firmware_common`,
-/// `memory.x`'s `.ram_code`) from flash to SRAM, where it is linked to run:
-/// from flash through the 16 KiB XIP cache its fetches missed about 8 M
-/// times a frame (docs/firmware.md). A word at a time with volatile
-/// accesses, so that no call (a `memcpy`) or code of those crates runs
-/// before the copy is done; the barriers make the new code visible to the
-/// instruction fetches that follow.
+/// Copies the renderer's code (`raypack` and `raypack_firmware_common`)
+/// and every constant (`memory.x`'s `.ram_code`) from flash to SRAM, where
+/// they are linked to run and be read:
+/// from flash through the 16 KiB XIP cache the code's fetches missed
+/// about 8 M times a frame (docs/firmware.md). A word at a time with
+/// volatile accesses, so that no call (a `memcpy`), code of those crates or
+/// constant is used before the copy is done; the barriers make the new
+/// code visible to the instruction fetches that follow.
 ///
 /// # Safety
 /// Only once, first thing in `main`, before anything calls that code.
