@@ -59,11 +59,16 @@ BOARDS=(
   # RV32IMAFC with the vector extension (Zve32f, VLEN 128; QEMU 7.2's
   # `rv32,v=true,vlen=128`): f32 at widths 1/4/8, as on the Helium board.
   "riscv-virt-v|riscv32imafc-unknown-none-elf|release|-|f32-w1,f32-w4,f32-w8|qemu-system-riscv32 -M virt -cpu rv32,v=true,vlen=128,vext_spec=v1.0 -bios none -nographic -semihosting $ICOUNT -kernel"
+  # The Pico's image layout under QEMU: Armv6-M code at opt-level 3 (the
+  # Pico's profile) on the Cortex-M3 of mps2-an385, the renderer's code and
+  # constants copied from flash to RAM by `main` and run there (common's
+  # `ram_code.x`), the frame timed as the Pico's two cores split it.
+  "mps2-an385|thumbv6m-none-eabi|release|1|fixed32|qemu-system-arm -M mps2-an385 -nographic -semihosting-config enable=on,target=native $ICOUNT -kernel"
   # Raspberry Pi Pico + Pimoroni Pico Display Pack: no QEMU machine models the
   # RP2040, so it is built, sized and proved panic-free only. Its frame is the
   # code the QEMU boards run, split between its two cores (common's dual),
-  # host-tested down to the SPI bytes; its instruction counts are microbit's
-  # fixed32 shares (same Armv6-M code, width 1).
+  # host-tested down to the SPI bytes; its instruction counts are
+  # mps2-an385's fixed32 shares (the same renderer, profile and layout).
   "rp2040-pico-display|thumbv6m-none-eabi|release|1|fixed32|-"
 )
 QEMU_TIMEOUT=${RAYPACK_QEMU_TIMEOUT:-300}
@@ -228,26 +233,34 @@ for entry in "${BOARDS[@]}"; do
     fi
   fi
 
+  # The renderer run from RAM (common's `ram_code.x`, copied by `main`;
+  # docs/firmware.md, "XIP cache misses on the RP2040"): on the Pico, and on
+  # mps2-an385, which runs the same layout under QEMU. The section's
+  # segment loads from flash and runs in RAM, and every function of raypack
+  # and of the common crate is in it.
+  case $board in
+    rp2040-pico-display) ram_flash="0x10000100 0x10200000"; own=_ZN27raypack_rp2040_pico_display ;;
+    mps2-an385) ram_flash="0x0 0x400000"; own=_ZN18raypack_mps2_an385 ;;
+    *) ram_flash= ;;
+  esac
+  if [ -n "$ram_flash" ]; then
+    say "$board: the renderer's code is linked to run from RAM"
+    read -r flash_lo flash_hi <<<"$ram_flash"
+    sect=$("$LLVM_OBJDUMP" -h "$elf" | awk '$2 == ".ram_code" { print $3, $4, $5 }')
+    echo ".ram_code (size, run at, stored at): ${sect:-none}"
+    read -r size vma lma <<<"$sect"
+    [ -n "${lma:-}" ] && (( 16#$vma == 0x20000000 && 16#$lma >= flash_lo && 16#$lma + 16#$size <= flash_hi )) \
+      || die "$board: no .ram_code run at 0x20000000 and stored in flash"
+    # (Any function named after raypack but the board crate's own, such as
+    # `main`, which runs the copy, and the linker's thunks to RAM.)
+    stray=$("$LLVM_NM" "$elf" | awk -v own="^($own|__Thumbv6M)" '$2 ~ /^[tT]$/ && $3 ~ /raypack/ && $3 !~ own && $1 !~ /^200/' | head -n 3)
+    [ -z "$stray" ] || die "$board: functions of the renderer outside RAM: $stray"
+    echo "every function of raypack and raypack_firmware_common (their impls and generics too) at 0x2000_0000 and up"
+  fi
+
   if [ "$qemu" = "-" ]; then
     say "$board: not run (no QEMU machine for it)"
     out=""; wall=-; match="not run"
-    # The Pico runs the renderer from SRAM (memory.x's `.ram_code`, copied
-    # by `main`; docs/firmware.md, "XIP cache misses on the RP2040"): its
-    # segment loads from flash and runs in RAM, and every function of
-    # raypack and of the common crate is in it.
-    if [ "$board" = rp2040-pico-display ]; then
-      say "$board: the renderer's code is linked to run from SRAM"
-      sect=$("$LLVM_OBJDUMP" -h "$elf" | awk '$2 == ".ram_code" { print $3, $4, $5 }')
-      echo ".ram_code (size, run at, stored at): ${sect:-none}"
-      read -r size vma lma <<<"$sect"
-      [ -n "${lma:-}" ] && (( 16#$vma == 0x20000000 && 16#$lma >= 0x10000100 && 16#$lma + 16#$size <= 0x10200000 )) \
-        || die "$board: no .ram_code run at 0x20000000 and stored in flash"
-      # (Any function named after raypack but this crate's own, such as
-      # `main`, which runs the copy, and the linker's thunks to SRAM.)
-      stray=$("$LLVM_NM" "$elf" | awk '$2 ~ /^[tT]$/ && $3 ~ /raypack/ && $3 !~ /^(_ZN27raypack_rp2040_pico_display|__Thumbv6M)/ && $1 !~ /^200/' | head -n 3)
-      [ -z "$stray" ] || die "$board: functions of the renderer outside SRAM: $stray"
-      echo "every function of raypack and raypack_firmware_common (their impls and generics too) at 0x2000_0000 and up"
-    fi
   else
     # Determinism: every board runs twice, the two runs side by side (QEMU
     # under -icount runs the guest on one host thread, so on the 2-core CI

@@ -30,6 +30,8 @@ pub mod draw;
 pub mod dual;
 #[cfg(feature = "panel")]
 pub mod panel;
+#[cfg(all(feature = "ram-code", target_arch = "arm", target_os = "none"))]
+pub mod ram_code;
 #[cfg(feature = "panel")]
 pub mod spi_panel;
 pub mod stack;

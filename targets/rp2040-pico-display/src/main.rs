@@ -299,42 +299,6 @@ extern "C" {
     static _stack_start: u32;
     /// Lowest address the stack may use: the end of the statics.
     static _stack_end: u32;
-    /// Start of the renderer's code in SRAM (`memory.x`, `.ram_code`).
-    static mut __sram_code: u32;
-    /// End of the renderer's code in SRAM.
-    static __eram_code: u32;
-    /// Where the linker stored that code in flash.
-    static __siram_code: u32;
-}
-
-/// Copies the renderer's code (`raypack` and `raypack_firmware_common`)
-/// and every constant (`memory.x`'s `.ram_code`) from flash to SRAM, where
-/// they are linked to run and be read:
-/// from flash through the 16 KiB XIP cache the code's fetches missed
-/// about 8 M times a frame (docs/firmware.md). A word at a time with
-/// volatile accesses, so that no call (a `memcpy`), code of those crates or
-/// constant is used before the copy is done; the barriers make the new
-/// code visible to the instruction fetches that follow.
-///
-/// # Safety
-/// Only once, first thing in `main`, before anything calls that code.
-#[inline(always)]
-unsafe fn copy_code_to_ram() {
-    // SAFETY: the linker's symbols bound one word-aligned region of flash
-    // and one of SRAM of the same length (`memory.x`); nothing else uses
-    // that SRAM.
-    unsafe {
-        let mut dst = addr_of_mut!(__sram_code);
-        let end = addr_of!(__eram_code);
-        let mut src = addr_of!(__siram_code);
-        while (dst as *const u32) < end {
-            dst.write_volatile(src.read_volatile());
-            dst = dst.add(1);
-            src = src.add(1);
-        }
-    }
-    cortex_m::asm::dsb();
-    cortex_m::asm::isb();
 }
 
 /// The lowest stack address painted and watched: 64 KiB below the top
@@ -349,9 +313,12 @@ const STACK_WINDOW: usize = 64 * 1024;
 
 #[rp2040_hal::entry]
 fn main() -> ! {
+    // The renderer's code and constants to SRAM (`ram_code.x`): from flash,
+    // through the 16 KiB XIP cache, its fetches missed about 8 M times a
+    // frame (docs/firmware.md).
     // SAFETY: the first thing `main` does; nothing has called the
     // renderer's code yet (the reset handler and `main` live in flash).
-    unsafe { copy_code_to_ram() };
+    unsafe { fw::ram_code::copy() };
     // SAFETY: `[stack_bottom(), sp)` is unused stack: above the statics,
     // below this frame.
     unsafe { stack::paint(stack_bottom() as *mut u32) };
