@@ -6,7 +6,8 @@
 //! scanning, and the report printed over semihosting.
 //!
 //! Each board crate supplies only its start-up, its memory map, its console
-//! (semihosting), its timer and its fault handlers. The rendering is the
+//! and fault handlers (on the Arm QEMU boards, the module `semihosting`'s,
+//! defined by `arm_handlers!`), and its timer. The rendering is the
 //! core's own `Renderer::draw_bands` over `Renderer::render_bands`, the band
 //! loop the host's `Renderer::checksums` runs for `tests/firmware_checksum.rs`,
 //! so a checksum that differs from the host's is a difference in
@@ -32,6 +33,8 @@ pub mod dual;
 pub mod panel;
 #[cfg(all(feature = "ram-code", target_arch = "arm", target_os = "none"))]
 pub mod ram_code;
+#[cfg(all(feature = "arm-semihosting", target_arch = "arm", target_os = "none"))]
+pub mod semihosting;
 #[cfg(feature = "panel")]
 pub mod spi_panel;
 pub mod stack;

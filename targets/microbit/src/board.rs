@@ -1,6 +1,6 @@
 //! What both `microbit` images share: start-up report and clock, the static
-//! row buffer, the semihosting console, the closing report,
-//! and the fault and panic handlers.
+//! row buffer, the closing report, and the semihosting console and
+//! handlers (common's `semihosting`).
 //!
 //! Memory: the band is one row (480 bytes); the test image builds each
 //! scene in place in one `static` slot of its own (`main.rs`), the
@@ -8,10 +8,9 @@
 //! the 16 KiB, and the report says how much of it they took.
 
 use core::ptr::{addr_of, addr_of_mut};
-use cortex_m_rt::{exception, ExceptionFrame};
-use cortex_m_semihosting::{debug, hio};
 use raypack::render::Rgb8;
-use raypack_firmware_common::timing::systick::{self, SysTick};
+use raypack_firmware_common::semihosting::{console, exit, Semihosting};
+use raypack_firmware_common::timing::systick::SysTick;
 use raypack_firmware_common::{self as fw, stack, Console};
 
 /// Packet width: the scalar path (no SIMD, and the smallest stack).
@@ -32,28 +31,6 @@ extern "C" {
     static _stack_end: u32;
     /// Start of `.data`, the first static in RAM.
     static __sdata: u32;
-}
-
-/// Semihosting standard output.
-pub struct Semihosting(Option<hio::HostStream>);
-
-impl Console for Semihosting {
-    fn write_str(&mut self, s: &str) {
-        if let Some(out) = self.0.as_mut() {
-            let _ = out.write_all(s.as_bytes());
-        }
-    }
-}
-
-fn console() -> Semihosting {
-    Semihosting(hio::hstdout().ok())
-}
-
-fn exit(ok: bool) -> ! {
-    debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
-    loop {
-        cortex_m::asm::bkpt();
-    }
 }
 
 /// The board after start-up: its console, its instruction clock and the
@@ -79,8 +56,8 @@ pub fn start(cpu: &'static str) -> Board {
     let mut con = console();
     fw::report_start(&mut con, &fw::Board { name: "microbit", cpu });
 
-    // SAFETY: nothing else uses SysTick; the SysTick handler below calls
-    // `systick::on_wrap`.
+    // SAFETY: nothing else uses SysTick; the SysTick handler
+    // (`arm_handlers!`) calls `systick::on_wrap`.
     let mut clock = unsafe { SysTick::start(CPU_HZ) };
     let clock_ok = fw::check_clock(&mut con, &mut clock, "systick");
 
@@ -105,34 +82,4 @@ pub fn finish(mut con: Semihosting, ok: bool) -> ! {
     exit(ok)
 }
 
-/// Counts SysTick wraps for the frame-time clock.
-#[exception]
-fn SysTick() {
-    systick::on_wrap();
-}
-
-#[exception]
-unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
-    let mut con = console();
-    con.write_str("result=FAILED HardFault at pc=");
-    con.write_hex32(frame.pc());
-    con.write_str("\n");
-    exit(false)
-}
-
-#[exception]
-unsafe fn DefaultHandler(irqn: i16) {
-    let mut con = console();
-    con.write_str("result=FAILED unexpected exception ");
-    con.write_u32(irqn as u16 as u32);
-    con.write_str("\n");
-    exit(false)
-}
-
-#[cfg(not(feature = "panic-never"))]
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    let mut con = console();
-    con.write_str("result=FAILED panic\n");
-    exit(false)
-}
+fw::arm_handlers!();

@@ -7,10 +7,10 @@
 #![no_main]
 
 use core::ptr::{addr_of, addr_of_mut};
-use cortex_m_rt::{entry, exception, ExceptionFrame};
-use cortex_m_semihosting::{debug, hio};
+use cortex_m_rt::entry;
 use raypack::render::Rgb8;
-use raypack_firmware_common::timing::systick::{self, SysTick};
+use raypack_firmware_common::semihosting::{console, exit};
+use raypack_firmware_common::timing::systick::SysTick;
 use raypack_firmware_common::{self as fw, stack, Console, Fixed32, SceneSlot};
 
 /// Packet width: one ray at a time (an in-order scalar FPU gains nothing
@@ -35,28 +35,6 @@ extern "C" {
     static _stack_end: u32;
     /// Start of `.data`, the first static in RAM.
     static __sdata: u32;
-}
-
-/// Semihosting standard output.
-struct Semihosting(Option<hio::HostStream>);
-
-impl Console for Semihosting {
-    fn write_str(&mut self, s: &str) {
-        if let Some(out) = self.0.as_mut() {
-            let _ = out.write_all(s.as_bytes());
-        }
-    }
-}
-
-fn console() -> Semihosting {
-    Semihosting(hio::hstdout().ok())
-}
-
-fn exit(ok: bool) -> ! {
-    debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
-    loop {
-        cortex_m::asm::bkpt();
-    }
 }
 
 /// Reads FPSCR (current FP status and control) and FPDSCR (the defaults
@@ -89,8 +67,8 @@ fn main() -> ! {
     con.write_hex32(fpdscr);
     con.write_str(if ieee { " (flush-to-zero off, default-NaN off, round to nearest)\n" } else { " NOT IEEE MODE\n" });
 
-    // SAFETY: nothing else uses SysTick; the SysTick handler below calls
-    // `systick::on_wrap`.
+    // SAFETY: nothing else uses SysTick; the SysTick handler
+    // (`arm_handlers!`) calls `systick::on_wrap`.
     let mut clock = unsafe { SysTick::start(CPU_HZ) };
     let clock_ok = fw::check_clock(&mut con, &mut clock, "systick");
 
@@ -113,34 +91,4 @@ fn main() -> ! {
     exit(ok)
 }
 
-/// Counts SysTick wraps for the frame-time clock.
-#[exception]
-fn SysTick() {
-    systick::on_wrap();
-}
-
-#[exception]
-unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
-    let mut con = console();
-    con.write_str("result=FAILED HardFault at pc=");
-    con.write_hex32(frame.pc());
-    con.write_str("\n");
-    exit(false)
-}
-
-#[exception]
-unsafe fn DefaultHandler(irqn: i16) {
-    let mut con = console();
-    con.write_str("result=FAILED unexpected exception ");
-    con.write_u32(irqn as u16 as u32);
-    con.write_str("\n");
-    exit(false)
-}
-
-#[cfg(not(feature = "panic-never"))]
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    let mut con = console();
-    con.write_str("result=FAILED panic\n");
-    exit(false)
-}
+fw::arm_handlers!();
