@@ -450,6 +450,19 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
             self.scale(s)
         }
     }
+    /// [`Vec3xW::scale_sparse`] of a vector and a factor at most 4 in
+    /// magnitude (a unit normal and twice a cosine), by
+    /// [`Scalar::mul_small`]: the same bits.
+    #[inline(always)]
+    pub fn scale_sparse_small(self, s: Lanes<S, W>) -> Self {
+        if S::SPARSE_PRODUCTS {
+            let zero = Lanes::zero();
+            let c = |v: Lanes<S, W>| if v.eq_lanes(zero).all() { zero } else { v.mul_small(s) };
+            Vec3::new(c(self.x), c(self.y), c(self.z))
+        } else {
+            self.scale(s)
+        }
+    }
     /// [`Vec3::scale`] lane by lane, but `self` itself where every lane of
     /// `s` is exactly one (`x·1 = x` in every scalar: the same bits) and
     /// [`Scalar::SPARSE_PRODUCTS`] says a compare is cheaper than a

@@ -701,6 +701,44 @@ fn unit_and_length_raw(c: [i32; 3]) -> Option<([i32; 3], i32)> {
     Some((map3(v, |v| mul_raw_small(v, inv)), Fixed32(len).mul_pow2(-k).0))
 }
 
+/// [`Scalar::unit_dot_le`] on raw values: `a·b` from the components
+/// truncated to `2⁻¹⁴` (`aᵢ >> 10`, within `[0, 2⁻¹⁴)` of `aᵢ`), one `muls`
+/// each on Armv6-M where the products themselves take about 18
+/// instructions each.
+///
+/// With `|aᵢ|, |bᵢ| <= 1.0625` (raw `17·2²⁰`) the truncations are at most
+/// `17 408` in magnitude, so each product is below `2²⁹` and their sum `c`
+/// (units of `2⁻²⁸`) cannot overflow. Each term differs from `aᵢbᵢ` by at
+/// most `(|aᵢ| + |bᵢ|)·2⁻¹⁴ + 2⁻²⁸ <= 2.125·2⁻¹⁴ + 2⁻²⁸`, and the product the
+/// caller would form rounds each term within `2⁻²⁵`: with
+/// `E = 3·(2.125·2¹⁴ + 1 + 8) < 2¹⁷` (units of `2⁻²⁸`), that product `p`
+/// satisfies `c − E < 16·p < c + E` (`p` in raw units of `2⁻²⁴`). So
+/// `c + E <= 16·limit` gives `p <= limit` and `c − E >= 16·limit` gives
+/// `p > limit`; between the two it is left to the product.
+#[inline(always)]
+fn unit_dot_le_raw(a: [i32; 3], b: [i32; 3], limit: i32) -> Option<bool> {
+    const _: () = assert!(FRAC == 24);
+    const E: i32 = 1 << 17;
+    // `|limit| <= 2`: `16·limit` fits.
+    if limit.unsigned_abs() > 2 << FRAC {
+        return None;
+    }
+    let t = |v: i32| v >> 10;
+    // (Wrapping only keeps components beyond the bound from a panic.)
+    let c = t(a[0])
+        .wrapping_mul(t(b[0]))
+        .wrapping_add(t(a[1]).wrapping_mul(t(b[1])))
+        .wrapping_add(t(a[2]).wrapping_mul(t(b[2])));
+    let l = limit << 4;
+    if c <= l - E {
+        Some(true)
+    } else if c >= l + E {
+        Some(false)
+    } else {
+        None
+    }
+}
+
 /// [`mul_raw_limbs`] for products of magnitude about `2^(30−FRAC)` and up
 /// and for cross sums past 32 bits (rare: out of line): the exact `i64`
 /// product and clamp.
@@ -1001,7 +1039,11 @@ fn div_raw(a: i32, b: i32) -> i32 {
             return div_raw_short(a, b);
         }
     }
-    div_raw_with(a, b, div_words)
+    // (A closure, not the function: passed as a function, at opt-level `s`
+    // the two-word division stayed a call through a shim, about 5
+    // instructions more per division on the Cortex-M0.)
+    #[allow(clippy::redundant_closure)]
+    div_raw_with(a, b, |u1, u0, d| div_words(u1, u0, d))
 }
 
 /// Bits per digit of [`div_raw_short`]'s long division.
@@ -1576,6 +1618,11 @@ impl Scalar for Fixed32 {
     fn div_pair(a: Self, b: Self, d: Self) -> (Self, Self) {
         let (p, q) = div2_raw(a.0, b.0, d.0);
         (Fixed32(p), Fixed32(q))
+    }
+    const UNIT_DOT_ESTIMATE: bool = true;
+    #[inline(always)]
+    fn unit_dot_le(a: [Self; 3], b: [Self; 3], limit: Self) -> Option<bool> {
+        unit_dot_le_raw([a[0].0, a[1].0, a[2].0], [b[0].0, b[1].0, b[2].0], limit.0)
     }
     /// `mul_raw_small`: the product without its range tests. (Not on
     /// WebAssembly, whose module keeps one out-of-line product for size:
@@ -2823,5 +2870,47 @@ mod tests {
             let _ = a.abs().min(Fixed32::ONE).powf(b.abs());
             let _ = a.powf(b);
         }
+    }
+
+    /// `unit_dot_le`'s answers are those of the three small products it
+    /// stands for (`Vec3xW::dot_splat_small`'s sum), for unit vectors,
+    /// components at the bound 1.0625 and limits a few units from the
+    /// product, where the margins are thinnest; and it settles most of them.
+    #[test]
+    fn unit_dot_estimate_agrees_with_the_products() {
+        let mut rng = Rng(0x05ee_dd07);
+        let bound = 17 << 20;
+        let (mut settled, mut cases) = (0, 0);
+        for i in 0..200_000 {
+            let mut v = || -> [i32; 3] {
+                match i % 4 {
+                    // Components anywhere within the bound.
+                    0 => core::array::from_fn(|_| (rng.raw() % (bound + 1)).max(-bound)),
+                    // On the bound.
+                    1 => core::array::from_fn(|_| if rng.raw() & 1 == 0 { bound } else { -bound }),
+                    // Unit vectors.
+                    _ => {
+                        let w: [f64; 3] = core::array::from_fn(|_| (rng.raw() as f64) / (i32::MAX as f64));
+                        let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt().max(1e-9);
+                        core::array::from_fn(|k| Fixed32::from_f64(w[k] / n).0)
+                    }
+                }
+            };
+            let (a, b) = (v(), v());
+            let p = (0..3).fold(0i32, |s, k| s.wrapping_add(mul_raw_small(a[k], b[k])));
+            // Limits at and around the product, and anywhere in [−2, 2].
+            let limit = match rng.raw() & 3 {
+                0 => rng.raw() % (2 << FRAC),
+                1 => p.saturating_add(rng.raw() % 4096),
+                _ => p.saturating_add(rng.raw() % (1 << 16)),
+            };
+            let limit = limit.clamp(-(2 << FRAC), 2 << FRAC);
+            cases += 1;
+            if let Some(le) = unit_dot_le_raw(a, b, limit) {
+                settled += 1;
+                assert_eq!(le, p <= limit, "{a:?}·{b:?} = {p} against {limit}");
+            }
+        }
+        assert!(settled > cases / 2, "{settled} of {cases}");
     }
 }

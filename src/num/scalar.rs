@@ -143,6 +143,23 @@ pub trait Scalar:
     fn div_pair(a: Self, b: Self, d: Self) -> (Self, Self) {
         (a / d, b / d)
     }
+    /// Whether [`Scalar::unit_dot_le`] settles anything.
+    const UNIT_DOT_ESTIMATE: bool = false;
+    /// Whether `a·b <= limit`, with `a·b` as [`Vec3xW::dot_splat_small`]
+    /// forms it (`Σ aᵢ.mul_small(bᵢ)`), for vectors whose components are at
+    /// most 1.0625 in magnitude (unit vectors; beyond that the answer is
+    /// unspecified, never a panic) and `|limit| <= 2`, where an estimate
+    /// cheaper than the three products settles it: `Some` of the answer,
+    /// `None` where the estimate lies too close to `limit` (the caller
+    /// then forms the product). The default settles nothing
+    /// ([`Scalar::UNIT_DOT_ESTIMATE`]).
+    ///
+    /// [`Vec3xW::dot_splat_small`]: crate::geom::vec3::Vec3xW::dot_splat_small
+    #[inline(always)]
+    fn unit_dot_le(a: [Self; 3], b: [Self; 3], limit: Self) -> Option<bool> {
+        let _ = (a, b, limit);
+        None
+    }
     /// `self * o` for factors at most 4 in magnitude (components of unit
     /// vectors the tracer made itself: directions, normals, cosines), bit
     /// for bit the product there; a scalar of limited range

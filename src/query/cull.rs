@@ -351,6 +351,44 @@ impl ScreenCull {
         m
     }
 
+    /// [`ScreenCull::candidates`] of the packet of `w` columns starting at
+    /// `x0` from `rows`, the candidates of its rows (what
+    /// [`ScreenCull::candidates`] gives for columns `0 ..= u32::MAX`): only
+    /// the columns are tested, the same set (a rectangle meets the pixels
+    /// iff it meets both their rows and their columns). With it, the last
+    /// `x` from `x0` on up to which every packet `[x, x + w − 1]` has those
+    /// same candidates, so that a row's packets, left to right, look them up
+    /// again only past it: each rectangle `[a, b]` meets the packet at `x`
+    /// for `x` in `[a − (w − 1), b]`, and the set changes only where one of
+    /// those ranges begins or ends.
+    pub fn columns_from(&self, rows: Candidates, x0: u32, w: u32) -> (Candidates, u32) {
+        let reach = w.saturating_sub(1);
+        let mut m = rows & !low_bits(self.len);
+        let mut until = u32::MAX;
+        let mut rest = rows & low_bits(self.len);
+        let mut bit: Candidates = 1;
+        for r in self.rects.iter() {
+            if rest == 0 {
+                break;
+            }
+            if rest & bit != 0 {
+                rest ^= bit;
+                let (a, b) = ((r.x0 as u32).saturating_sub(reach), r.x1 as u32);
+                if a > b {
+                    // An empty rectangle: no packet meets it.
+                } else if x0 < a {
+                    // Met from `a` on.
+                    until = until.min(a - 1);
+                } else if x0 <= b {
+                    m |= bit;
+                    until = until.min(b);
+                }
+            }
+            bit <<= 1;
+        }
+        (m, until)
+    }
+
     /// Whether primitive `k`'s rectangle covers pixel `(x, y)` (true for
     /// primitives it does not hold).
     pub fn covers(&self, k: usize, x: u32, y: u32) -> bool {
@@ -542,7 +580,28 @@ impl<S: Scalar> Occluder<S> {
     /// of small factors, exact there; the other lanes' values are not used.)
     #[inline(always)]
     fn cone_holds<const W: usize>(&self, dir: &Vec3xW<S, W>, inside: Mask<W>) -> bool {
-        self.limit == S::MAX || (inside & dir.dot_splat_small(self.axis).le(Lanes::splat(self.limit))).any()
+        if self.limit == S::MAX {
+            return true;
+        }
+        // Lanes a scalar's estimate of the product settles (the same
+        // answers), then the product for the rest.
+        let mut rest = inside;
+        if S::UNIT_DOT_ESTIMATE {
+            let axis = [self.axis.x, self.axis.y, self.axis.z];
+            for l in 0..W {
+                if inside.get(l) {
+                    match S::unit_dot_le([dir.x.0[l], dir.y.0[l], dir.z.0[l]], axis, self.limit) {
+                        Some(true) => return true,
+                        Some(false) => rest.set(l, false),
+                        None => {}
+                    }
+                }
+            }
+            if rest.none() {
+                return false;
+            }
+        }
+        (rest & dir.dot_splat_small(self.axis).le(Lanes::splat(self.limit))).any()
     }
 }
 
@@ -1430,6 +1489,58 @@ mod tests {
     fn camera() -> Camera<f32> {
         let up = Vec3::new(0.0, 1.0, 0.0);
         Camera::new(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.0, -1.0), up, 90.0, 40, 40).unwrap()
+    }
+
+    /// A row's packets find the candidates `candidates` gives, and keep them
+    /// up to the column `columns_from` says: seeded rectangles (empty ones
+    /// and ones at the image's edge among them), rows' candidate sets and
+    /// packet widths 1 to 4.
+    #[test]
+    fn packets_of_a_row_keep_their_candidates_up_to_where_they_change() {
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u32| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 33) as u32 % n
+        };
+        let mut changes = 0;
+        for case in 0..200 {
+            let len = 1 + next(32) as usize;
+            let mut cull = ScreenCull { rects: [PixelRect::EMPTY; CULL_CAPACITY], len, full: PixelRect::EMPTY };
+            for r in cull.rects.iter_mut().take(len) {
+                *r = match next(6) {
+                    0 => PixelRect::EMPTY,
+                    _ => {
+                        let (x0, y0) = (next(40) as u16, next(8) as u16);
+                        PixelRect { x0, x1: x0 + next(12) as u16, y0, y1: y0 + next(4) as u16 }
+                    }
+                };
+            }
+            let within = if case % 3 == 0 { ALL } else { (next(u32::MAX) << 1) ^ next(u32::MAX) };
+            for w in 1..=4 {
+                for y in 0..9 {
+                    let rows = cull.candidates(within, 0, u32::MAX, y, y + 1);
+                    for x0 in 0..60 {
+                        let (m, until) = cull.columns_from(rows, x0, w);
+                        assert_eq!(m, cull.candidates(within, x0, x0 + w - 1, y, y + 1), "case {case}: {x0}, {w}");
+                        assert!(until >= x0);
+                        for x in x0..=until.min(70) {
+                            assert_eq!(
+                                cull.candidates(within, x, x + w - 1, y, y + 1),
+                                m,
+                                "case {case}: {x} ≤ {until}"
+                            );
+                        }
+                        if until < 70 && cull.candidates(within, until + 1, until + w, y, y + 1) != m {
+                            changes += 1;
+                        }
+                    }
+                }
+            }
+        }
+        // The sets do change along rows (the spans are not all the whole row).
+        assert!(changes > 10_000, "{changes}");
     }
 
     #[test]

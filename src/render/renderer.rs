@@ -196,6 +196,27 @@ impl<S> Culling<'_, S> {
         let (pw, ph) = const { packet_shape(W) };
         c.candidates(self.band, x, x.saturating_add(pw - 1), y, y.saturating_add(ph - 1))
     }
+
+    /// The candidates of the row of width-`W` packets whose top is `y`
+    /// (their rows' primitives), for [`Culling::in_row`].
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+    fn row<const W: usize>(&self, y: u32) -> Candidates {
+        let Some(c) = self.cull else { return ALL };
+        let (_, ph) = const { packet_shape(W) };
+        c.candidates(self.band, 0, u32::MAX, y, y.saturating_add(ph - 1))
+    }
+
+    /// [`Culling::at`]`(x, y)` from `row`, the candidates of the packets'
+    /// row ([`Culling::row`]`(y)`), testing only columns, and the last `x`
+    /// up to which the row's packets keep them ([`ScreenCull::columns_from`]).
+    #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+    fn in_row<const W: usize>(&self, row: Candidates, x: u32) -> (Candidates, u32) {
+        let Some(c) = self.cull else { return (ALL, u32::MAX) };
+        let (pw, _) = const { packet_shape(W) };
+        c.columns_from(row, x, pw)
+    }
 }
 
 /// Writes the pixels `px` of the lanes `active` of the packet at `(x0, y0)`
@@ -328,6 +349,12 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                 // whole.
                 #[cfg(not(target_arch = "wasm32"))]
                 let mut row = self.camera.packet_row::<W>(rect.y, rect);
+                // And the primitives the row's packets can see: those of the
+                // packets from `from` to `until` (left to right) and of the row.
+                #[cfg(not(target_arch = "wasm32"))]
+                let mut row_candidates = cull.row::<W>(rect.y);
+                #[cfg(not(target_arch = "wasm32"))]
+                let (mut from, mut until, mut candidates) = (1, 0, ALL);
                 self.packets::<W>(
                     rect,
                     rect,
@@ -338,15 +365,25 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
                     )]
                     |x, y| {
                         #[cfg(not(target_arch = "wasm32"))]
-                        let (ray, active) = {
+                        let (ray, active, candidates) = {
                             if row.y() != y {
                                 row = self.camera.packet_row::<W>(y, rect);
+                                row_candidates = cull.row::<W>(y);
+                                (from, until) = (1, 0);
                             }
-                            self.camera.packet_in_row(&row, x)
+                            if !(from <= x && x <= until) {
+                                (candidates, until) = cull.in_row::<W>(row_candidates, x);
+                                from = x;
+                            }
+                            let (ray, active) = self.camera.packet_in_row(&row, x);
+                            (ray, active, candidates)
                         };
                         #[cfg(target_arch = "wasm32")]
-                        let (ray, active) = self.camera.packet::<W>(x, y, rect);
-                        (self.shade_packet(&ray, active, cull.at::<W>(x, y), cull.shadow, stats), active)
+                        let (ray, active, candidates) = {
+                            let (ray, active) = self.camera.packet::<W>(x, y, rect);
+                            (ray, active, cull.at::<W>(x, y))
+                        };
+                        (self.shade_packet(&ray, active, candidates, cull.shadow, stats), active)
                     },
                 )
             }

@@ -197,6 +197,27 @@ pub struct Tracer<'a, S, A = BruteForce, const D: usize = 8> {
     scene: SceneView<'a, S>,
     accel: A,
     settings: TraceSettings<S>,
+    /// Whether local shading's products take [`Scalar::mul_small`] (see
+    /// [`small_shading`]).
+    small_shading: bool,
+}
+
+/// Whether every product of local shading (`Tracer::local`) has factors at
+/// most 4 in magnitude, so that [`Scalar::mul_small`] is that product bit for
+/// bit: true when every material's colour, `Ka`, `Kd`, `Ks` and `Kt` and
+/// every light's colour lie in `[−1, 1]` (NFF's colours and weights do).
+/// Then, for a lit lane, with unit vectors the tracer made (`N·L` at most
+/// `1 + 2⁻¹²`): `Ka·colour`, `Kd·(N·L)` and `colour·diffuse` are at most
+/// about 1, the Phong term `Ks·max(0, R·V)^n` at most 1, so `shade` at most
+/// about 2, its product with the light's colour at most about 2, and the
+/// transmittance (1 times each crossed occluder's `Kt`) at most 1. A scalar
+/// of unlimited range has no other product ([`Scalar::LIMITED_RANGE`]).
+fn small_shading<S: Scalar>(scene: &SceneView<'_, S>) -> bool {
+    let unit = |v: S| v.abs() <= S::ONE;
+    let unit3 = |v: Vec3<S>| unit(v.x) && unit(v.y) && unit(v.z);
+    S::LIMITED_RANGE
+        && scene.materials().iter().all(|m| unit3(m.color) && unit(m.ka) && unit(m.kd) && unit(m.ks) && unit(m.kt))
+        && scene.lights().iter().all(|l| unit3(l.color))
 }
 
 impl<'a, S: Scalar, const D: usize> Tracer<'a, S, BruteForce, D> {
@@ -216,14 +237,15 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             return Err(TraceError::Depth { requested: settings.max_depth, supported: D as u32 });
         }
         accel.check(&scene).map_err(TraceError::Accelerator)?;
-        Ok(Tracer { scene, accel, settings })
+        let small_shading = small_shading(&scene);
+        Ok(Tracer { scene, accel, settings, small_shading })
     }
 
     /// The same tracer with its accelerator replaced by `f(accel)`, which
     /// must answer every query exactly as the old one did (the dispatcher
     /// wraps accelerators in copies compiled for other instruction sets).
     pub fn map_accelerator<B: Accelerator<S>>(self, f: impl FnOnce(A) -> B) -> Tracer<'a, S, B, D> {
-        Tracer { scene: self.scene, accel: f(self.accel), settings: self.settings }
+        Tracer { scene: self.scene, accel: f(self.accel), settings: self.settings, small_shading: self.small_shading }
     }
 
     /// The scene traced.
@@ -307,7 +329,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             mat.splat(same, &self.scene.material_of(k));
         }
         // Turn both normals to face the ray (visibility is two-sided).
-        let cos = ng.dot_sparse(ray.dir);
+        // (Unit vectors, or a zero normal: products of small factors.)
+        let cos = ng.dot_sparse_small(ray.dir);
         let entering = cos.le(Lanes::zero());
         let flip = !entering;
         let surf = SurfacePacket {
@@ -423,7 +446,12 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 // `off` is the geometric normal times it.
                 let eps = offset_scale(&surf.point);
                 let off = surf.geometric.scale_sparse(eps);
-                let local = self.local(&p.ray, &hit, &surf, &mat, (eps, &off), whitted, shadows, stats);
+                // (A constant test first: scalars of unlimited range have one copy.)
+                let local = if S::LIMITED_RANGE && self.small_shading {
+                    self.local::<W, true>(&p.ray, &hit, &surf, &mat, (eps, &off), whitted, shadows, stats)
+                } else {
+                    self.local::<W, false>(&p.ray, &hit, &surf, &mat, (eps, &off), whitted, shadows, stats)
+                };
                 // Local light, weighted by (1 − Kt) in Whitted mode.
                 let w_local = if whitted { p.weight * (Lanes::splat(S::ONE) - mat.kt) } else { p.weight };
                 let w_local = Lanes::select(hit.mask, w_local, zero);
@@ -443,12 +471,14 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     }
 
     /// Local shading (ambient, diffuse, Phong highlight) of the hit lanes,
-    /// with shadow rays in Whitted mode.
+    /// with shadow rays in Whitted mode; with `SMALL` (the scene's
+    /// [`small_shading`]) its products by material and light colours and
+    /// weights are [`Scalar::mul_small`]s, the same bits.
     #[cfg_attr(all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64")), inline(always))]
     // Private and inlined: the arguments are the packet's state at one
     // bounce, which a struct would only carry here to be unpacked again.
     #[allow(clippy::too_many_arguments)]
-    fn local<const W: usize>(
+    fn local<const W: usize, const SMALL: bool>(
         &self,
         ray: &RayPacket<S, W>,
         hit: &Hit<S, W>,
@@ -460,7 +490,10 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         stats: &mut RayStats,
     ) -> Vec3xW<S, W> {
         let zero = Lanes::<S, W>::zero();
-        let mut local = mat.color.scale(mat.ka);
+        // The products of colours and weights (see `small_shading`).
+        let mul = |a: Lanes<S, W>, b: Lanes<S, W>| if SMALL { a.mul_small(b) } else { a * b };
+        let scale = |v: Vec3xW<S, W>, k: Lanes<S, W>| Vec3::new(mul(v.x, k), mul(v.y, k), mul(v.z, k));
+        let mut local = scale(mat.color, mat.ka);
         let view = -ray.dir;
         let shadow_origin = surf.point + *off;
         let lights = self.scene.lights();
@@ -500,8 +533,10 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             // the lanes with a specular coefficient.
             let shiny = lit & mat.ks.ne_lanes(zero);
             let spec = if shiny.any() {
-                let r = surf.shading.scale_sparse(n_dot_l * S::TWO) - l_dir;
-                let r_dot_v = r.dot(view);
+                // (N a unit vector, N·L at most 1 + 2⁻¹².)
+                let r = surf.shading.scale_sparse_small(n_dot_l.mul_small(Lanes::splat(S::TWO))) - l_dir;
+                // (R is at most 3 in each component, V a unit vector.)
+                let r_dot_v = r.dot_small(view);
                 // The highlight as lane code: the power of every lane at once
                 // (a branch-free `powf`), kept where it applies.
                 let highlight = shiny & r_dot_v.gt(zero);
@@ -513,15 +548,16 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             } else {
                 zero
             };
-            let diffuse = mat.kd * n_dot_l;
-            let shade = mat.color.scale(diffuse);
+            let diffuse = mul(mat.kd, n_dot_l);
+            let shade = scale(mat.color, diffuse);
             let shade = Vec3::new(shade.x + spec, shade.y + spec, shade.z + spec);
-            let contrib = shade.mul_elem(light.color.splat::<W>());
+            let lc = light.color.splat::<W>();
+            let contrib = Vec3::new(mul(shade.x, lc.x), mul(shade.y, lc.y), mul(shade.z, lc.z));
             // Unshadowed lanes carry exactly 1 (x·1 = x in every scalar): skip
             // the three products when no lit lane is partly shadowed (unlit
             // lanes are dropped below).
             let partly = lit.and_not(trans.eq_lanes(Lanes::splat(S::ONE)));
-            let contrib = if partly.none() { contrib } else { contrib.scale(trans) };
+            let contrib = if partly.none() { contrib } else { scale(contrib, trans) };
             local = local + Vec3xW::select(lit, contrib, Vec3::new(zero, zero, zero));
         }
         Vec3xW::select(hit.mask, local, Vec3::new(zero, zero, zero))
@@ -543,7 +579,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let d = p.ray.dir;
         let n = surf.shading;
         // cos θi = −d·N (N faces the ray).
-        let cos_i = -(n.dot_sparse(d));
+        // (Both unit vectors the tracer made: products of small factors.)
+        let cos_i = -(n.dot_sparse_small(d));
         // Relative index η = n₁/n₂: entering goes from outside (1) into the material.
         let has_t = hit.mask & mat.kt.gt(zero);
         // η, k and the transmitted weight only matter where there is
@@ -580,7 +617,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         }
         // Reflected: R = d + 2 cos θi N, leaving from the near side.
         if refl.any() {
-            let r_dir = d + n.scale_sparse(cos_i * S::TWO);
+            let r_dir = d + n.scale_sparse_small(cos_i.mul_small(Lanes::splat(S::TWO)));
             let (r_dir, ok) = r_dir.normalize();
             let _ = stack.push(Pending {
                 ray: RayPacket { origin: surf.point + *off, dir: r_dir },
@@ -651,5 +688,134 @@ impl<S: Scalar, const W: usize> Materials<S, W> {
         self.kr = put(m.kr, self.kr);
         self.kt = put(m.kt, self.kt);
         self.ior = put(m.ior, self.ior);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::camera::Camera;
+    use crate::num::fixed32::Fixed32;
+    use crate::num::fixed64::Fixed;
+    use crate::scene::Scene;
+
+    type Small<S> = Scene<S, 8, 8, 8, 2>;
+
+    /// A seeded scene in the box `[−1, 1]³`: a floor, spheres (one of them
+    /// glass, so shadow rays cross it and weights split) and two lights,
+    /// every colour and weight drawn from `[−lim, lim]` and a few set to
+    /// the bounds themselves.
+    fn scene<S: Scalar>(seed: u64, lim: f32) -> Small<S> {
+        let mut x = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut w = || match (next() * 8.0) as u32 {
+            0 => lim,
+            1 => -lim,
+            _ => (next() * 2.0 - 1.0) * lim,
+        };
+        let f = S::from_f32;
+        let v = |x: f32, y: f32, z: f32| Vec3::from_f32(x, y, z);
+        let mut s = Small::<S>::new();
+        let mut mats = [0u16; 4];
+        for (i, m) in mats.iter_mut().enumerate() {
+            let material = Material {
+                color: v(w(), w(), w()),
+                ka: f(w()),
+                kd: f(w()),
+                ks: f(w()),
+                shine: f(1.0 + 30.0 * i as f32),
+                kr: f(w().abs()),
+                kt: f(if i == 3 { 0.5 + 0.5 * w().abs() / lim.max(1.0) } else { 0.0 }),
+                ior: f(1.5),
+            };
+            *m = s.add_material(material).unwrap();
+        }
+        s.add_plane(f(0.0), f(0.0), f(1.0), f(0.6), mats[0]).unwrap();
+        s.add_sphere(v(-0.4, 0.2, -0.1), f(0.4), mats[1]).unwrap();
+        s.add_sphere(v(0.5, 0.3, 0.0), f(0.3), mats[2]).unwrap();
+        s.add_sphere(v(0.0, -0.3, 0.1), f(0.25), mats[3]).unwrap();
+        s.add_light(v(-0.8, -0.9, 0.9), v(w(), w(), w())).unwrap();
+        s.add_light(v(0.9, -0.5, 0.6), v(w(), w(), w())).unwrap();
+        s
+    }
+
+    /// Every pixel's colour bits at width `W`, tracing with local shading's
+    /// small products or without them.
+    fn image<S: Scalar, const W: usize>(scene: &Small<S>, small: bool) -> std::vec::Vec<[S; 3]> {
+        let mut tracer = Tracer::<S>::new(scene.view(), TraceSettings::default()).unwrap();
+        tracer.small_shading = small;
+        let v = |x: f32, y: f32, z: f32| Vec3::from_f32(x, y, z);
+        let camera = Camera::new(v(0.0, -1.0, 0.5), v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), 60.0, 24, 20).unwrap();
+        let mut out = std::vec::Vec::new();
+        let mut stats = RayStats::default();
+        for y in 0..camera.height() {
+            for x in (0..camera.width()).step_by(W) {
+                let (ray, active) = camera.packet::<W>(x, y, camera.full_rect());
+                let c = tracer.trace::<W>(&ray, active, &mut stats);
+                for l in 0..W {
+                    if active.get(l) {
+                        out.push([c.x.0[l], c.y.0[l], c.z.0[l]]);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn small_shading_needs_unit_colours_and_weights_in_a_limited_range() {
+        assert!(small_shading(&scene::<Fixed32>(1, 1.0).view()));
+        assert!(small_shading(&scene::<Fixed>(1, 1.0).view()));
+        // Unlimited range: the products are the same operation.
+        assert!(!small_shading(&scene::<f32>(1, 1.0).view()));
+        let mut s = scene::<Fixed32>(1, 1.0);
+        let m = Material { color: Vec3::from_f32(0.5, 1.01, 0.5), ..Material::diffuse(Vec3::from_f32(0.5, 0.5, 0.5)) };
+        s.add_material(m).unwrap();
+        assert!(!small_shading(&s.view()));
+        assert!(!small_shading(&scene::<Fixed32>(1, 1.5).view()));
+        // A light's colour.
+        for (c, small) in [(-1.0, true), (-1.5, false)] {
+            let mut s = Small::<Fixed32>::new();
+            let m = s.add_material(Material::diffuse(Vec3::from_f32(0.5, 0.5, 0.5))).unwrap();
+            s.add_sphere(Vec3::from_f32(0.0, 0.0, 0.0), Fixed32::from_f32(0.5), m).unwrap();
+            s.add_light(Vec3::from_f32(0.0, 0.0, 0.9), Vec3::from_f32(0.2, 0.2, c)).unwrap();
+            assert_eq!(small_shading(&s.view()), small, "{c}");
+        }
+        let mut t = scene::<Fixed32>(1, 1.0);
+        let kt = Material { kt: Fixed32::from_f32(1.25), ..Material::diffuse(Vec3::from_f32(0.5, 0.5, 0.5)) };
+        t.add_material(kt).unwrap();
+        assert!(!small_shading(&t.view()));
+    }
+
+    /// The small products give the bits of the general ones wherever
+    /// [`small_shading`] allows them, at widths 1 and 4, in both scalars of
+    /// limited range.
+    fn small_products_agree<S: Scalar>() {
+        let mut lit = 0;
+        for seed in 0..24 {
+            let s = scene::<S>(seed, 1.0);
+            assert!(small_shading(&s.view()));
+            let general = image::<S, 1>(&s, false);
+            assert_eq!(image::<S, 1>(&s, true), general, "seed {seed}, width 1");
+            assert_eq!(image::<S, 4>(&s, true), image::<S, 4>(&s, false), "seed {seed}, width 4");
+            lit += general.iter().filter(|c| c.iter().any(|v| *v != S::ZERO)).count();
+        }
+        // Not a comparison of black images.
+        assert!(lit > 24 * 24 * 20 / 2, "{lit}");
+    }
+
+    #[test]
+    fn small_shading_products_are_the_general_ones_in_fixed32() {
+        small_products_agree::<Fixed32>();
+    }
+
+    #[test]
+    fn small_shading_products_are_the_general_ones_in_fixed() {
+        small_products_agree::<Fixed>();
     }
 }

@@ -103,7 +103,9 @@ impl<S: Scalar> Cone<S> {
         // direction (dx, dy, dz).
         let from_base = ray.origin.sub_splat(self.base);
         let (px, py, pz) = (from_base.dot_splat(self.u), from_base.dot_splat(self.v), from_base.dot_splat(self.w));
-        let (dx, dy, dz) = (ray.dir.dot_splat(self.u), ray.dir.dot_splat(self.v), ray.dir.dot_splat(self.w));
+        // (Unit vectors: products of small factors.)
+        let (dx, dy, dz) =
+            (ray.dir.dot_splat_small(self.u), ray.dir.dot_splat_small(self.v), ray.dir.dot_splat_small(self.w));
         // Across the axis the ray is (px, py) + t·(dx, dy): nearest the axis
         // at t_axis = −(px·dx + py·dy)/(dx² + dy²), formed from the origin's
         // distance to the axis, not from its distance along it (so a far

@@ -91,7 +91,12 @@ impl<S: Scalar> OrientedBox<S> {
         // unchanged.
         let rel = ray.origin.sub_splat(self.center);
         let o = Vec3::new(rel.dot_splat(self.u), rel.dot_splat(self.v), rel.dot_splat(self.w));
-        let d = Vec3::new(ray.dir.dot_splat(self.u), ray.dir.dot_splat(self.v), ray.dir.dot_splat(self.w));
+        // (Unit vectors: products of small factors.)
+        let d = Vec3::new(
+            ray.dir.dot_splat_small(self.u),
+            ray.dir.dot_splat_small(self.v),
+            ray.dir.dot_splat_small(self.w),
+        );
         slab_roots(o, d, -self.half, self.half, t_min, t_max, active, LEAVE_EARLY)
     }
 

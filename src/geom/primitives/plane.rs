@@ -106,8 +106,9 @@ pub(crate) fn plane_crossing<S: Scalar, const W: usize>(
     t_max: Lanes<S, W>,
     active: Mask<W>,
 ) -> Roots<S, W> {
-    // Rate at which the signed distance changes along the ray.
-    let denom = ray.dir.dot_splat(n);
+    // Rate at which the signed distance changes along the ray (a unit
+    // direction and a unit normal: products of small factors).
+    let denom = ray.dir.dot_splat_small(n);
     let valid = active & denom.ne_lanes(Lanes::zero());
     if valid.none() {
         return Roots::none();
