@@ -329,8 +329,10 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             mat.splat(same, &self.scene.material_of(k));
         }
         // Turn both normals to face the ray (visibility is two-sided).
-        // (Unit vectors, or a zero normal: products of small factors.)
-        let cos = ng.dot_sparse_small(ray.dir);
+        // (Unit vectors, or a zero normal: products of small factors. Here
+        // and below, the small forms only where they differ, in a scalar
+        // of limited range: `f32` keeps the code it was measured with.)
+        let cos = if S::LIMITED_RANGE { ng.dot_sparse_small(ray.dir) } else { ng.dot_sparse(ray.dir) };
         let entering = cos.le(Lanes::zero());
         let flip = !entering;
         let surf = SurfacePacket {
@@ -446,8 +448,11 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                 // `off` is the geometric normal times it.
                 let eps = offset_scale(&surf.point);
                 let off = surf.geometric.scale_sparse(eps);
-                // (A constant test first: scalars of unlimited range have one copy.)
-                let local = if S::LIMITED_RANGE && self.small_shading {
+                // (A constant test first: scalars of unlimited range have one
+                // copy, and so does the Armv6-M image built for size, where
+                // the second took about 4 KB.)
+                let small_copy = S::LIMITED_RANGE && !cfg!(all(armv6m, not(armv6m_inline_mul)));
+                let local = if small_copy && self.small_shading {
                     self.local::<W, true>(&p.ray, &hit, &surf, &mat, (eps, &off), whitted, shadows, stats)
                 } else {
                     self.local::<W, false>(&p.ray, &hit, &surf, &mat, (eps, &off), whitted, shadows, stats)
@@ -534,9 +539,13 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             let shiny = lit & mat.ks.ne_lanes(zero);
             let spec = if shiny.any() {
                 // (N a unit vector, N·L at most 1 + 2⁻¹².)
-                let r = surf.shading.scale_sparse_small(n_dot_l.mul_small(Lanes::splat(S::TWO))) - l_dir;
+                let r = if S::LIMITED_RANGE {
+                    surf.shading.scale_sparse_small(n_dot_l.mul_small(Lanes::splat(S::TWO))) - l_dir
+                } else {
+                    surf.shading.scale_sparse(n_dot_l * S::TWO) - l_dir
+                };
                 // (R is at most 3 in each component, V a unit vector.)
-                let r_dot_v = r.dot_small(view);
+                let r_dot_v = if S::LIMITED_RANGE { r.dot_small(view) } else { r.dot(view) };
                 // The highlight as lane code: the power of every lane at once
                 // (a branch-free `powf`), kept where it applies.
                 let highlight = shiny & r_dot_v.gt(zero);
@@ -580,7 +589,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let n = surf.shading;
         // cos θi = −d·N (N faces the ray).
         // (Both unit vectors the tracer made: products of small factors.)
-        let cos_i = -(n.dot_sparse_small(d));
+        let cos_i = -(if S::LIMITED_RANGE { n.dot_sparse_small(d) } else { n.dot_sparse(d) });
         // Relative index η = n₁/n₂: entering goes from outside (1) into the material.
         let has_t = hit.mask & mat.kt.gt(zero);
         // η, k and the transmitted weight only matter where there is
@@ -617,7 +626,11 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         }
         // Reflected: R = d + 2 cos θi N, leaving from the near side.
         if refl.any() {
-            let r_dir = d + n.scale_sparse_small(cos_i.mul_small(Lanes::splat(S::TWO)));
+            let r_dir = if S::LIMITED_RANGE {
+                d + n.scale_sparse_small(cos_i.mul_small(Lanes::splat(S::TWO)))
+            } else {
+                d + n.scale_sparse(cos_i * S::TWO)
+            };
             let (r_dir, ok) = r_dir.normalize();
             let _ = stack.push(Pending {
                 ray: RayPacket { origin: surf.point + *off, dir: r_dir },
