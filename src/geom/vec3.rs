@@ -442,22 +442,21 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
     /// holds (`0·s = 0` exactly: the same bits).
     #[inline(always)]
     pub fn scale_sparse(self, s: Lanes<S, W>) -> Self {
-        if S::SPARSE_PRODUCTS {
-            let zero = Lanes::zero();
-            let c = |v: Lanes<S, W>| if v.eq_lanes(zero).all() { zero } else { v * s };
-            Vec3::new(c(self.x), c(self.y), c(self.z))
-        } else {
-            self.scale(s)
-        }
+        self.scale_sparse_by(s, |v, s| v * s)
     }
     /// [`Vec3xW::scale_sparse`] of a vector and a factor at most 4 in
     /// magnitude (a unit normal and twice a cosine), by
     /// [`Scalar::mul_small`]: the same bits.
     #[inline(always)]
     pub fn scale_sparse_small(self, s: Lanes<S, W>) -> Self {
+        self.scale_sparse_by(s, Lanes::mul_small)
+    }
+    /// [`Vec3xW::scale_sparse`] with the lane product `mul`.
+    #[inline(always)]
+    fn scale_sparse_by(self, s: Lanes<S, W>, mul: impl Fn(Lanes<S, W>, Lanes<S, W>) -> Lanes<S, W>) -> Self {
         if S::SPARSE_PRODUCTS {
             let zero = Lanes::zero();
-            let c = |v: Lanes<S, W>| if v.eq_lanes(zero).all() { zero } else { v.mul_small(s) };
+            let c = |v: Lanes<S, W>| if v.eq_lanes(zero).all() { zero } else { mul(v, s) };
             Vec3::new(c(self.x), c(self.y), c(self.z))
         } else {
             self.scale(s)
