@@ -984,6 +984,20 @@ impl<S: Scalar> ShadowCull<S> {
         self.candidates_with(light, Some(origin), dir, eps, lit)
     }
 
+    /// [`ShadowCull::candidates_from`] always in line: for a caller that is
+    /// itself the out-of-line call.
+    #[inline(always)]
+    pub(crate) fn candidates_from_in_line<const W: usize>(
+        &self,
+        light: usize,
+        origin: &Vec3xW<S, W>,
+        dir: &Vec3xW<S, W>,
+        eps: Lanes<S, W>,
+        lit: Mask<W>,
+    ) -> Candidates {
+        self.candidates_here(light, Some(origin), dir, eps, lit, use_cells::<W>())
+    }
+
     /// [`ShadowCull::candidates`] in line or out of line (see [`apart`]).
     #[inline(always)]
     fn candidates_with<const W: usize>(
