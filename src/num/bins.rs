@@ -91,6 +91,24 @@ mod tests {
     }
 
     #[test]
+    fn fixed_point_bins_are_the_exact_floor_across_the_range() {
+        // Differences of raw values past `i32::MAX` (here up to 240·2²⁴):
+        // the bin is still the exact floor, not that of a saturated
+        // difference.
+        for (origin, shift) in [(-120.0f32, -4), (-127.5, -3), (-100.0, -2)] {
+            let o = Fixed32::from_f32(origin);
+            let mut x = -127.9f64;
+            while x < 127.9 {
+                let v = Fixed32::from_f32(x as f32);
+                let exact = ((v.to_f32() as f64 - o.to_f32() as f64) * (shift as f64).exp2()).floor();
+                let want = exact.clamp(0.0, 255.0) as usize;
+                assert_eq!(bin(v, o, shift, scale_of::<Fixed32>(shift), 256), want, "{x} {origin} {shift}");
+                x += 0.0917;
+            }
+        }
+    }
+
+    #[test]
     fn bins_never_decrease() {
         monotone::<f32>(-3.25, 5);
         monotone::<f32>(7.0, -1);

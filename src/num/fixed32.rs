@@ -1815,19 +1815,24 @@ impl Scalar for Fixed32 {
         }
         Fixed32(powf_raw(x, e))
     }
-    /// `⌊(self − origin)·2^shift⌋` exactly, clamped: the raw difference
-    /// (saturating, so non-decreasing in `self`) shifted right by
-    /// `FRAC − shift`, which floors. (The general form rounds the product,
-    /// then floors: about 40 instructions a bin on the Cortex-M0, this one
-    /// about 10.) Shifts past `FRAC` take the general form.
+    /// `⌊(self − origin)·2^shift⌋` exactly, clamped: bin 0 below `origin`;
+    /// from it up, the raw difference, exact as an unsigned word (it lies
+    /// in `[0, 2³²)`), shifted right by `FRAC − shift`, which floors. (The
+    /// general form rounds the product, then floors: about 40 instructions
+    /// a bin on the Cortex-M0; this one is a comparison, a subtraction, a
+    /// shift and the upper clamp.) Shifts past `FRAC`, or below
+    /// `FRAC − 31`, take the general form.
     #[inline(always)]
     fn bin(self, origin: Self, shift: i32, scale: Self, n: usize) -> usize {
-        let k = FRAC as i32 - shift;
-        if k < 0 {
+        let k = (FRAC as i32).wrapping_sub(shift) as u32;
+        if k > 31 {
             return crate::num::scalar::bin_rounded(self - origin, shift, scale, n);
         }
-        let x = self.0.saturating_sub(origin.0) >> (k as u32).min(31);
-        x.clamp(0, n as i32 - 1) as usize
+        if self.0 < origin.0 {
+            return 0;
+        }
+        let x = (self.0 as u32).wrapping_sub(origin.0 as u32) >> k;
+        (x as usize).min(n.saturating_sub(1))
     }
     #[inline]
     fn floor_to_i32(self) -> i32 {
