@@ -531,29 +531,79 @@ struct PlaneSide<S> {
     d: S,
     up: bool,
     /// The axis of a normal that is `±1` on it and zero elsewhere (floors
-    /// and walls), 3 otherwise; `flip` for `−1`.
+    /// and walls) and whose offset is at most [`AXIS_PLANE_OFFSET`], 3
+    /// otherwise. For those, the origins on the light's side are those
+    /// whose component lies `above` (or else below) `limit`.
     axis: u8,
-    flip: bool,
+    above: bool,
+    limit: S,
 }
+
+/// The largest offset `|d|` of an axis plane whose side [`PlaneSide`]
+/// tells from one comparison: `−d` is exact in every scalar, and in fixed
+/// point `±c + d` saturates only where its sign is the exact one.
+const AXIS_PLANE_OFFSET: f32 = 64.0;
 
 impl<S: Scalar> PlaneSide<S> {
     /// An unused entry.
-    const NONE: Self = PlaneSide { k: 0, normal: Vec3::ZERO, d: S::ZERO, up: true, axis: 3, flip: false };
+    const NONE: Self =
+        PlaneSide { k: 0, normal: Vec3::ZERO, d: S::ZERO, up: true, axis: 3, above: true, limit: S::ZERO };
+
+    /// Plane `k`, `n·x + d = 0`, with the light on the side `up`. For an
+    /// axis normal `±1` of small offset the kernel's signed distance is
+    /// `±c + d` (`x·1 = x`, `x·(−1) = −x` and `0 + x = x` exactly, up to the
+    /// sign of a zero, which no comparison with zero sees), and its sign is
+    /// that of the exact sum: floating point rounds no nonzero sum to zero
+    /// (nor changes its sign), and fixed point's saturation keeps the sign
+    /// (`−c` saturates only at the bottom value, where `−c + d` is positive
+    /// both ways for such a `d`). So `c + d > 0` is `c > −d`, and `−c + d >
+    /// 0` is `c < d`: one comparison with `limit` instead of the sum.
+    fn new(k: u8, normal: Vec3<S>, d: S, up: bool) -> Self {
+        let (one, zero) = (S::ONE, S::ZERO);
+        let unit = |a: S, b: S, c: S| (a == one || a == -one) && b == zero && c == zero;
+        let axis = if !(d.abs() <= S::from_f32(AXIS_PLANE_OFFSET)) {
+            3
+        } else if unit(normal.x, normal.y, normal.z) {
+            0
+        } else if unit(normal.y, normal.z, normal.x) {
+            1
+        } else if unit(normal.z, normal.x, normal.y) {
+            2
+        } else {
+            3
+        };
+        let flip = normal.x + normal.y + normal.z < zero;
+        PlaneSide { k, normal, d, up, axis, above: up != flip, limit: if flip { d } else { -d } }
+    }
 
     /// The plane's signed distance of the points `o` as its kernel computes
-    /// it (`o·n + d`, [`Vec3xW::dot_splat`]); for an axis normal the same
-    /// value from the one component (`x·1 = x`, `x·(−1) = −x` and `0 + x = x`
-    /// exactly, up to the sign of a zero, which no comparison with zero
-    /// sees).
+    /// it (`o·n + d`, [`Vec3xW::dot_splat`]).
     #[inline(always)]
     fn distance<const W: usize>(&self, o: &Vec3xW<S, W>) -> Lanes<S, W> {
+        o.dot_splat(self.normal) + Lanes::splat(self.d)
+    }
+
+    /// The lanes whose points `o` lie on the light's side of the plane, not
+    /// on it: the kernel's own signed distance is positive on the side
+    /// `up`, negative on the other (for axis planes from one comparison,
+    /// see [`PlaneSide::new`]).
+    #[inline(always)]
+    fn clear<const W: usize>(&self, o: &Vec3xW<S, W>) -> Mask<W> {
         let c = match self.axis {
             0 => o.x,
             1 => o.y,
             2 => o.z,
-            _ => return o.dot_splat(self.normal) + Lanes::splat(self.d),
+            _ => {
+                let dist = self.distance(o);
+                return if self.up { dist.gt(Lanes::zero()) } else { dist.lt(Lanes::zero()) };
+            }
         };
-        (if self.flip { -c } else { c }) + Lanes::splat(self.d)
+        let limit = Lanes::splat(self.limit);
+        if self.above {
+            c.gt(limit)
+        } else {
+            c.lt(limit)
+        }
     }
 }
 
@@ -890,19 +940,7 @@ impl<S: Scalar> ShadowCull<S> {
                     continue;
                 }
                 let Some(slot) = planes.get_mut(*count as usize) else { break };
-                let (one, zero) = (S::ONE, S::ZERO);
-                let unit = |a: S, b: S, c: S| (a == one || a == -one) && b == zero && c == zero;
-                let axis = if unit(n.x, n.y, n.z) {
-                    0
-                } else if unit(n.y, n.z, n.x) {
-                    1
-                } else if unit(n.z, n.x, n.y) {
-                    2
-                } else {
-                    3
-                };
-                let flip = n.x + n.y + n.z < zero;
-                *slot = PlaneSide { k: k as u8, normal: n, d, up: h > 0.0, axis, flip };
+                *slot = PlaneSide::new(k as u8, n, d, h > 0.0);
                 *count += 1;
             }
         }
@@ -1123,13 +1161,8 @@ impl<S: Scalar> ShadowCull<S> {
         }
         // Planes the origins clear on the light's side (see above).
         if let (Some(o), Some(planes), Some(&count)) = (origin, self.planes.get(light), self.plane_count.get(light)) {
-            let zero = Lanes::zero();
             for p in planes.iter().take(count as usize) {
-                // The kernel's own signed distance: on the light's side,
-                // not on the plane.
-                let dist = p.distance(o);
-                let clear = if p.up { dist.gt(zero) } else { dist.lt(zero) };
-                if lit.and_not(clear).none() {
+                if lit.and_not(p.clear(o)).none() {
                     m &= !(1 << p.k);
                 }
             }
@@ -1356,6 +1389,67 @@ mod tests {
     use super::*;
     use crate::num::fixed32::Fixed32;
     use crate::scene::{Material, Scene};
+
+    /// An axis plane's side from one comparison is the side of the
+    /// kernel's signed distance (`o·n + d` compared with zero), for every
+    /// axis, sign, side and offset up to [`AXIS_PLANE_OFFSET`], at the
+    /// limits and the ends of the range.
+    fn axis_plane_sides_are_the_distances_signs<S: Scalar>(c_of: impl Fn(u64) -> S, d_of: impl Fn(u64) -> S, low: S) {
+        let mut state = 0x5eed_0f_51de_u64;
+        let one = S::ONE;
+        for axis in 0..3 {
+            for sign in [one, -one] {
+                let n = match axis {
+                    0 => Vec3::new(sign, S::ZERO, S::ZERO),
+                    1 => Vec3::new(S::ZERO, sign, S::ZERO),
+                    _ => Vec3::new(S::ZERO, S::ZERO, sign),
+                };
+                for up in [true, false] {
+                    for i in 0..400 {
+                        let d = d_of(crate::num::test_rng::splitmix64(&mut state) ^ i);
+                        let p = PlaneSide::new(0, n, d, up);
+                        assert_eq!(p.axis as usize, axis, "{d:?}");
+                        let mut cs = [d, -d, S::MAX, low, S::ZERO, d, d];
+                        cs[5] = c_of(crate::num::test_rng::splitmix64(&mut state));
+                        cs[6] = -d + c_of(crate::num::test_rng::splitmix64(&mut state) | 1).mul_pow2(-20);
+                        for c in cs {
+                            let other = c_of(crate::num::test_rng::splitmix64(&mut state)).mul_pow2(-1);
+                            let o = match axis {
+                                0 => Vec3::new(c, other, other),
+                                1 => Vec3::new(other, c, other),
+                                _ => Vec3::new(other, other, c),
+                            };
+                            let o: Vec3xW<S, 1> = o.splat();
+                            let dist = p.distance(&o);
+                            let want = if up { dist.gt(Lanes::zero()) } else { dist.lt(Lanes::zero()) };
+                            assert_eq!(p.clear(&o).get(0), want.get(0), "axis {axis} {sign:?} up {up} d {d:?} c {c:?}");
+                        }
+                    }
+                }
+            }
+        }
+        // Offsets past the bound take the dot product.
+        let far = PlaneSide::new(0, Vec3::new(S::ZERO, one, S::ZERO), S::from_f32(2.0 * AXIS_PLANE_OFFSET), true);
+        assert_eq!(far.axis, 3);
+    }
+
+    #[test]
+    fn axis_plane_sides_are_the_distances_signs_in_fixed_point() {
+        // Offsets within the bound, points anywhere in the range (the
+        // bottom value included), near `−d` too.
+        let bound = (AXIS_PLANE_OFFSET as i64) << 24;
+        axis_plane_sides_are_the_distances_signs::<Fixed32>(
+            |r| Fixed32::from_bits(r as i32),
+            |r| Fixed32::from_bits(((r % (2 * bound as u64 + 1)) as i64 - bound) as i32),
+            Fixed32::from_bits(i32::MIN),
+        );
+    }
+
+    #[test]
+    fn axis_plane_sides_are_the_distances_signs_in_floating_point() {
+        let f = |r: u64, scale: f32| ((r >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) as f32 * scale;
+        axis_plane_sides_are_the_distances_signs::<f32>(|r| f(r, 1.0e6), |r| f(r, AXIS_PLANE_OFFSET), f32::MIN);
+    }
 
     /// The lowest set bit's table and function give `trailing_zeros`.
     #[test]
