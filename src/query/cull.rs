@@ -1395,7 +1395,7 @@ mod tests {
     /// axis, sign, side and offset up to [`AXIS_PLANE_OFFSET`], at the
     /// limits and the ends of the range.
     fn axis_plane_sides_are_the_distances_signs<S: Scalar>(c_of: impl Fn(u64) -> S, d_of: impl Fn(u64) -> S, low: S) {
-        let mut state = 0x5eed_0f_51de_u64;
+        let mut state = 0x005e_ed0f_51de_u64;
         let one = S::ONE;
         for axis in 0..3 {
             for sign in [one, -one] {

@@ -346,12 +346,14 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let cos = if S::LIMITED_RANGE { ng.dot_sparse_small(ray.dir) } else { ng.dot_sparse(ray.dir) };
         let entering = cos.le(Lanes::zero());
         let flip = !entering;
-        let surf = SurfacePacket {
-            point,
-            geometric: Vec3xW::select(flip, -ng, ng),
-            shading: Vec3xW::select(flip, -ns, ns),
-            entering,
+        // (In a scalar of limited range a negation saturates, about four
+        // instructions a component: none where no lane turns.)
+        let (geometric, shading) = if S::LIMITED_RANGE && flip.none() {
+            (ng, ns)
+        } else {
+            (Vec3xW::select(flip, -ng, ng), Vec3xW::select(flip, -ns, ns))
         };
+        let surf = SurfacePacket { point, geometric, shading, entering };
         (surf, mat)
     }
 
