@@ -518,7 +518,6 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         let mul = |a: Lanes<S, W>, b: Lanes<S, W>| if SMALL { a.mul_small(b) } else { a * b };
         let scale = |v: Vec3xW<S, W>, k: Lanes<S, W>| Vec3::new(mul(v.x, k), mul(v.y, k), mul(v.z, k));
         let mut local = if S::LIMITED_RANGE { scale(mat.color, mat.ka) } else { mat.color.scale(mat.ka) };
-        let view = -ray.dir;
         let shadow_origin = surf.point + *off;
         let lights = self.scene.lights();
         // The geometric normal is the shading one except on patches; where
@@ -568,6 +567,9 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
                     surf.shading.scale_sparse(n_dot_l * S::TWO) - l_dir
                 };
                 // (R is at most 3 in each component, V a unit vector.)
+                // (The view vector −d here, where it is used: most hits
+                // have no highlight.)
+                let view = -ray.dir;
                 let r_dot_v = if S::LIMITED_RANGE { r.dot_small(view) } else { r.dot(view) };
                 // The highlight as lane code: the power of every lane at once
                 // (a branch-free `powf`), kept where it applies.
