@@ -747,12 +747,15 @@ impl<S: Scalar> DirectionCells<S> {
 struct Reach<S> {
     centre: Vec3<S>,
     r: S,
+    /// `−r` (a saturating negation in fixed point: once, not per ray).
+    neg_r: S,
     r2: S,
 }
 
 impl<S: Scalar> Reach<S> {
     /// An unused entry.
-    const NONE: Self = Reach { centre: Vec3::ZERO, r: S::MAX, r2: S::MAX };
+    /// (Never tested: its bit is in `reach_always` or past `reach_len`.)
+    const NONE: Self = Reach { centre: Vec3::ZERO, r: S::MAX, neg_r: S::ZERO, r2: S::MAX };
 }
 
 /// Largest `|C − O|` (each component) of a bounding sphere's centre `C`
@@ -975,6 +978,7 @@ impl<S: Scalar> ShadowCull<S> {
                 (r2 <= r2_max && max_abs(c) <= c_max).then(|| Reach {
                     centre: Vec3::from_f32(c[0], c[1], c[2]),
                     r: S::from_f32(r),
+                    neg_r: -S::from_f32(r),
                     r2: S::from_f32(r2),
                 })
             });
@@ -1195,6 +1199,7 @@ impl<S: Scalar> ShadowCull<S> {
             return m;
         }
         let range = Lanes::splat(if S::LIMITED_RANGE { S::from_f32(REACH_RANGE) } else { S::MAX });
+        let neg_range = -range;
         let slack = Lanes::splat(S::from_f32(1.0 / 1024.0));
         let zero = Lanes::<S, W>::zero();
         // The products below take unit directions as small factors: a
@@ -1215,7 +1220,7 @@ impl<S: Scalar> ShadowCull<S> {
             // within one rounding of its own magnitude in floating point,
             // far less than `R`'s growth; saturated components keep their
             // sign.)
-            let (r, nr) = (Lanes::splat(e.r), Lanes::splat(-e.r));
+            let (r, nr) = (Lanes::splat(e.r), Lanes::splat(e.neg_r));
             let away = |c: Lanes<S, W>, dc: Lanes<S, W>| (c.gt(r) & dc.le(zero)) | (c.lt(nr) & dc.ge(zero));
             let active = if one_ray_off_x86::<W>() {
                 // One ray (not on x86): axis by axis, each ending the entry
@@ -1239,7 +1244,10 @@ impl<S: Scalar> ShadowCull<S> {
             }
             // Lanes too far out for the scalar's range: a candidate, with
             // no products.
-            let near = oc.x.abs().le(range) & oc.y.abs().le(range) & oc.z.abs().le(range);
+            // (`|c| ≤ R` as `−R ≤ c ≤ R`: the same lanes, without the
+            // saturating absolute values.)
+            let within = |c: Lanes<S, W>| c.le(range) & c.ge(neg_range);
+            let near = within(oc.x) & within(oc.y) & within(oc.z);
             if active.and_not(near).any() {
                 m |= 1 << k;
                 continue;
