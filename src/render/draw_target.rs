@@ -174,14 +174,25 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Renderer<'a, S, A, D> {
             // inside `rect`, so every `get` succeeds and the colours number
             // exactly `visible.w · visible.h`.
             let (x0, x1) = (visible.x as usize, visible.x as usize + visible.w as usize);
+            let area = Rectangle::new(corner, Size::new(visible.w, visible.h));
+            let skip = (visible.y - rect.y) as usize;
+            if x0 == 0 && x1 == width {
+                // Whole rows (a band on a panel at least as wide as the
+                // image): one run of the band, without a row iterator.
+                let run = pixels.get(skip * width..(skip + visible.h as usize) * width).unwrap_or(&[]);
+                let colors = run
+                    .iter()
+                    .zip(RectPositions::new(visible))
+                    .map(|(p, (x, y))| T::Color::from_rgb8(*p, x, y, dither));
+                return target.fill_contiguous(&area, colors);
+            }
             let colors = pixels
                 .chunks(width.max(1))
-                .skip((visible.y - rect.y) as usize)
+                .skip(skip)
                 .take(visible.h as usize)
                 .flat_map(|row| row.get(x0..x1).unwrap_or(&[]))
                 .zip(RectPositions::new(visible))
                 .map(|(p, (x, y))| T::Color::from_rgb8(*p, x, y, dither));
-            let area = Rectangle::new(corner, Size::new(visible.w, visible.h));
             target.fill_contiguous(&area, colors)
         });
         r.map_err(|e| match e {
