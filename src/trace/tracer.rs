@@ -223,13 +223,23 @@ pub struct Tracer<'a, S, A = BruteForce, const D: usize = 8> {
 /// about 2, its product with the light's colour at most about 2, and the
 /// transmittance (1 times each crossed occluder's `Kt`) at most 1. A scalar
 /// of unlimited range has no other product ([`Scalar::LIMITED_RANGE`]).
+///
+/// With at most [`SMALL_SHADING_LIGHTS`] lights its sums are bounded too,
+/// and take [`Scalar::add_small`] (sums at most 64 in magnitude): `shade`
+/// at most about 2, and the local colour, ambient plus one such term per
+/// light, at most about `1 + 2·16`.
 fn small_shading<S: Scalar>(scene: &SceneView<'_, S>) -> bool {
     let unit = |v: S| v.abs() <= S::ONE;
     let unit3 = |v: Vec3<S>| unit(v.x) && unit(v.y) && unit(v.z);
     S::LIMITED_RANGE
+        && scene.lights().len() <= SMALL_SHADING_LIGHTS
         && scene.materials().iter().all(|m| unit3(m.color) && unit(m.ka) && unit(m.kd) && unit(m.ks) && unit(m.kt))
         && scene.lights().iter().all(|l| unit3(l.color))
 }
+
+/// Most lights for which local shading takes its small products and sums
+/// (see [`small_shading`]).
+const SMALL_SHADING_LIGHTS: usize = 16;
 
 impl<'a, S: Scalar, const D: usize> Tracer<'a, S, BruteForce, D> {
     /// A tracer that tests every primitive ([`BruteForce`]); errors if
@@ -517,6 +527,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         // packets of 16).
         let mul = |a: Lanes<S, W>, b: Lanes<S, W>| if SMALL { a.mul_small(b) } else { a * b };
         let scale = |v: Vec3xW<S, W>, k: Lanes<S, W>| Vec3::new(mul(v.x, k), mul(v.y, k), mul(v.z, k));
+        let add = |a: Lanes<S, W>, b: Lanes<S, W>| if SMALL { a.add_small(b) } else { a + b };
         let mut local = if S::LIMITED_RANGE { scale(mat.color, mat.ka) } else { mat.color.scale(mat.ka) };
         let shadow_origin = surf.point + *off;
         let lights = self.scene.lights();
@@ -584,7 +595,11 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             };
             let diffuse = if S::LIMITED_RANGE { mul(mat.kd, n_dot_l) } else { mat.kd * n_dot_l };
             let shade = if S::LIMITED_RANGE { scale(mat.color, diffuse) } else { mat.color.scale(diffuse) };
-            let shade = Vec3::new(shade.x + spec, shade.y + spec, shade.z + spec);
+            let shade = if S::LIMITED_RANGE {
+                Vec3::new(add(shade.x, spec), add(shade.y, spec), add(shade.z, spec))
+            } else {
+                Vec3::new(shade.x + spec, shade.y + spec, shade.z + spec)
+            };
             let lc = light.color.splat::<W>();
             let contrib = if S::LIMITED_RANGE {
                 Vec3::new(mul(shade.x, lc.x), mul(shade.y, lc.y), mul(shade.z, lc.z))
@@ -602,7 +617,12 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
             } else {
                 contrib.scale(trans)
             };
-            local = local + Vec3xW::select(lit, contrib, Vec3::new(zero, zero, zero));
+            let contrib = Vec3xW::select(lit, contrib, Vec3::new(zero, zero, zero));
+            local = if S::LIMITED_RANGE {
+                Vec3::new(add(local.x, contrib.x), add(local.y, contrib.y), add(local.z, contrib.z))
+            } else {
+                local + contrib
+            };
         }
         Vec3xW::select(hit.mask, local, Vec3::new(zero, zero, zero))
     }
@@ -858,6 +878,20 @@ mod tests {
         let kt = Material { kt: Fixed32::from_f32(1.25), ..Material::diffuse(Vec3::from_f32(0.5, 0.5, 0.5)) };
         t.add_material(kt).unwrap();
         assert!(!small_shading(&t.view()));
+    }
+
+    /// Local shading's sums are bounded only for so many lights: past
+    /// [`SMALL_SHADING_LIGHTS`], the general products and sums.
+    #[test]
+    fn small_shading_needs_at_most_so_many_lights() {
+        let mut s = crate::scene::Scene::<Fixed32, 4, 4, 4, 32>::new();
+        let m = s.add_material(Material::diffuse(Vec3::from_f32(0.5, 0.5, 0.5))).unwrap();
+        s.add_sphere(Vec3::from_f32(0.0, 0.0, 0.0), Fixed32::from_f32(0.5), m).unwrap();
+        for i in 0..=SMALL_SHADING_LIGHTS {
+            assert_eq!(small_shading(&s.view()), i <= SMALL_SHADING_LIGHTS, "{i} lights");
+            s.add_light(Vec3::from_f32(0.0, 0.0, 0.9 + i as f32), Vec3::from_f32(1.0, 1.0, 1.0)).unwrap();
+        }
+        assert!(!small_shading(&s.view()));
     }
 
     /// The small products give the bits of the general ones wherever
