@@ -1244,9 +1244,11 @@ impl<S: Scalar> ShadowCull<S> {
             }
             // Lanes too far out for the scalar's range: a candidate, with
             // no products.
-            // (`|c| ≤ R` as `−R ≤ c ≤ R`: the same lanes, without the
-            // saturating absolute values.)
-            let within = |c: Lanes<S, W>| c.le(range) & c.ge(neg_range);
+            // (In a scalar of limited range `|c| ≤ R` as `−R ≤ c ≤ R`: the
+            // same lanes, without the saturating absolute values; a
+            // floating-point absolute value is one operation.)
+            let within =
+                |c: Lanes<S, W>| if S::LIMITED_RANGE { c.le(range) & c.ge(neg_range) } else { c.abs().le(range) };
             let near = within(oc.x) & within(oc.y) & within(oc.z);
             if active.and_not(near).any() {
                 m |= 1 << k;
