@@ -1026,21 +1026,10 @@ impl<S: Scalar> ShadowCull<S> {
         self.candidates_with(light, Some(origin), dir, eps, lit)
     }
 
-    /// [`ShadowCull::candidates_from`] always in line: for a caller that is
-    /// itself the out-of-line call.
-    #[inline(always)]
-    pub(crate) fn candidates_from_in_line<const W: usize>(
-        &self,
-        light: usize,
-        origin: &Vec3xW<S, W>,
-        dir: &Vec3xW<S, W>,
-        eps: Lanes<S, W>,
-        lit: Mask<W>,
-    ) -> Candidates {
-        self.candidates_here(light, Some(origin), dir, eps, lit, use_cells::<W>())
-    }
-
-    /// [`ShadowCull::candidates`] in line or out of line (see [`apart`]).
+    /// [`ShadowCull::candidates`] in line or out of line (see [`apart`]),
+    /// always in line on RV32 without hardware floats, where the tracer's
+    /// whole shadow query of a single ray is one out-of-line call
+    /// (`Tracer::shadow_transmittance_apart`).
     #[inline(always)]
     fn candidates_with<const W: usize>(
         &self,
@@ -1050,7 +1039,7 @@ impl<S: Scalar> ShadowCull<S> {
         eps: Lanes<S, W>,
         lit: Mask<W>,
     ) -> Candidates {
-        if apart::<S, W>() {
+        if apart::<S, W>() && !cfg!(all(target_arch = "riscv32", not(hard_float))) {
             self.candidates_apart(light, origin, dir, eps, lit)
         } else {
             self.candidates_here(light, origin, dir, eps, lit, use_cells::<W>())

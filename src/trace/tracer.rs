@@ -25,7 +25,8 @@ use heapless::Vec as HVec;
 
 /// Whether a single ray's shadow query is one out-of-line call, the
 /// shadow culling and the brute-force loop in line in it (RV32 without
-/// hardware floats): there both were calls of their own, each saving a
+/// hardware floats, where `ShadowCull` keeps its candidates in line and the
+/// brute-force transmittance is in line too): there both were calls of their own, each saving a
 /// dozen registers and spilling the ray, about 50 instructions a shadow
 /// ray (the `fixed32` frame 97.5 M → 95.6 M instructions, `f32` the same).
 /// Elsewhere it is not: on the Cortex-M0, whose fixed-point culling is in
@@ -631,8 +632,8 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
     /// moved off by at most `eps`, towards light `light` at distances
     /// `dist`) in the lanes `lit`, as one out-of-line call (see
     /// [`SHADOW_QUERY_APART`]): the candidates the shadow culling leaves
-    /// them ([`ShadowCull::candidates_from`]), then the accelerator's
-    /// transmittance among those, both in line here.
+    /// them ([`ShadowCull::candidates_from`], in line there), then the
+    /// accelerator's transmittance among those, in line too.
     #[inline(never)]
     fn shadow_transmittance_apart<const W: usize>(
         &self,
@@ -643,7 +644,7 @@ impl<'a, S: Scalar, A: Accelerator<S>, const D: usize> Tracer<'a, S, A, D> {
         dist: Lanes<S, W>,
         lit: Mask<W>,
     ) -> Lanes<S, W> {
-        let among = cull.map_or(ALL, |c| c.candidates_from_in_line(light, &shadow.origin, &shadow.dir, eps, lit));
+        let among = cull.map_or(ALL, |c| c.candidates_from(light, &shadow.origin, &shadow.dir, eps, lit));
         self.accel.transmittance_among(&self.scene, shadow, Lanes::zero(), dist, lit, among)
     }
 
