@@ -500,16 +500,6 @@ fn mul_raw_words(a: i32, b: i32) -> i32 {
     round_words((p >> 32) as i32, p as u32)
 }
 
-/// [`round_words`] without its range test, for products below
-/// `2^(30−FRAC)` in magnitude ([`mul_raw_small`] and [`square_raw_small`]
-/// on 32-bit targets with a long multiply): the same bits there, and some
-/// value (no panic) beyond.
-#[inline(always)]
-#[cfg_attr(any(wide_mul, armv6m), allow(dead_code))]
-fn round_words_small(p: i64) -> i32 {
-    halve_up(half_ulps((p >> 32) as i32, p as u32))
-}
-
 /// The product on Armv6-M, from signed 16-bit limbs: `a = aₕ·2¹⁶ + aₗ` with
 /// `aₕ = a >> 16 ∈ [−2¹⁵, 2¹⁵)` (arithmetic shift) and `aₗ = a & 0xFFFF ∈
 /// [0, 2¹⁶)`, the same for `b`, so
@@ -618,8 +608,24 @@ fn mul_raw_small(a: i32, b: i32) -> i32 {
     }
     #[cfg(not(any(armv6m, wide_mul)))]
     {
-        round_words_small(a as i64 * b as i64)
+        mul_words_small(a, b)
     }
+}
+
+/// [`mul_raw_small`] on 32-bit targets with a long multiply, from the
+/// product of the operands scaled by 2⁴: with `|a|, |b| ≤ 2²⁶` ([`SMALL`])
+/// the scaled operands fit 32 bits and `(2⁴a)(2⁴b) = 2⁸·ab` is exact, so
+/// its high word is `⌊ab/2²⁴⌋` (`mulh` floors) and the top bit of its low
+/// word is bit 23 of `ab`, the half ulp that rounds `⌊(ab + 2²³)/2²⁴⌋` up.
+/// On RV32IMAC six instructions, one fewer than [`round_words`] without
+/// its range test, and five where an operand's scaling is shared (a
+/// square, or the normalisation's four products by one reciprocal root).
+#[inline(always)]
+#[cfg_attr(any(wide_mul, armv6m), allow(dead_code))]
+fn mul_words_small(a: i32, b: i32) -> i32 {
+    // (Wrapping shifts: larger operands give some value, never a panic.)
+    let p = a.wrapping_shl(4) as i64 * b.wrapping_shl(4) as i64;
+    ((p >> 32) as i32).wrapping_add(((p as u32) >> 31) as i32)
 }
 
 /// The product's cross terms from 16-bit limbs, `C₁' = C₁ + q + ⌊h/2¹⁶⌋`
@@ -660,7 +666,7 @@ fn square_raw_small(a: i32) -> i32 {
     }
     #[cfg(not(any(armv6m, wide_mul)))]
     {
-        round_words_small(a as i64 * a as i64)
+        mul_words_small(a, a)
     }
 }
 
@@ -2403,10 +2409,10 @@ mod tests {
             for (a, b) in [(a, b), (a, edges[(b & 7) as usize + 4])] {
                 let want = mul_reference(a, b);
                 assert_eq!(mul_limbs_small(a, b), want, "{a} * {b} (limbs)");
-                assert_eq!(round_words_small(a as i64 * b as i64), want, "{a} * {b} (words)");
+                assert_eq!(mul_words_small(a, b), want, "{a} * {b} (words)");
                 assert_eq!(mul_raw_small(a, b), want, "{a} * {b}");
             }
-            assert_eq!(round_words_small(a as i64 * a as i64), mul_reference(a, a), "{a}² (words)");
+            assert_eq!(mul_words_small(a, a), mul_reference(a, a), "{a}² (words)");
             assert_eq!(square_limbs_fast(a, (a >> 16) * (a >> 16)), mul_reference(a, a), "{a}² (limbs)");
             assert_eq!(square_raw_small(a), mul_reference(a, a), "{a}²");
         }
