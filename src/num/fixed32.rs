@@ -1669,6 +1669,11 @@ impl Scalar for Fixed32 {
     fn add_small(self, o: Self) -> Self {
         Fixed32(self.0.wrapping_add(o.0))
     }
+    /// The wrapping difference, as `add_small`.
+    #[inline(always)]
+    fn sub_small(self, o: Self) -> Self {
+        Fixed32(self.0.wrapping_sub(o.0))
+    }
 
     /// `unit_and_length_raw`: the general code without the range tests
     /// that cannot fire, for every vector from 2⁻⁷ up. Not on WebAssembly,

@@ -300,6 +300,17 @@ impl<S: Scalar, const W: usize> Lanes<S, W> {
         Lanes(r)
     }
 
+    /// Lane-wise [`Scalar::sub_small`]: the difference, for differences at
+    /// most 64 in magnitude.
+    #[inline(always)]
+    pub fn sub_small(self, o: Self) -> Self {
+        let mut r = self.0;
+        for i in 0..W {
+            r[i] = r[i].sub_small(o.0[i]);
+        }
+        Lanes(r)
+    }
+
     /// Applies `f` to every lane.
     #[inline(always)]
     pub fn map(self, f: impl Fn(S) -> S) -> Self {

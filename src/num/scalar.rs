@@ -186,6 +186,12 @@ pub trait Scalar:
     fn add_small(self, o: Self) -> Self {
         self + o
     }
+    /// `self - o` for operands whose difference is at most 64 in magnitude,
+    /// as [`Scalar::add_small`] is the sum.
+    #[inline(always)]
+    fn sub_small(self, o: Self) -> Self {
+        self - o
+    }
 
     /// One vector's unit vector and length (components `v`), bit for bit
     /// what the general lane code of `Vec3xW::normalize_with_length` gives
