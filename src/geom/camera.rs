@@ -314,6 +314,9 @@ pub struct PacketRow<S, const W: usize> {
     rows_inside: [bool; W],
     up_sy: Vec3<Lanes<S, W>>,
     up_sy0: Vec3<Lanes<S, W>>,
+    /// Whether the packets' terms take their short forms (see
+    /// [`Camera::packet_in_row`]).
+    small: bool,
 }
 
 impl<S: Scalar, const W: usize> PacketRow<S, W> {
@@ -342,7 +345,11 @@ impl<S: Scalar> Camera<S> {
             // lanes outside (below 2·65535 + 1: no overflow).
             vn[l] = if inside { 2 * j + 1 } else { 1 };
         }
-        PacketRow { y, clip, rows_inside, up_sy: self.up_sy(vn), up_sy0: self.up_sy([1; W]) }
+        // Screen offsets of at most 4 (a field of view up to 150° or so):
+        // the short forms' bounds hold (see `packet_in_row`).
+        let four = S::TWO + S::TWO;
+        let small = S::LIMITED_RANGE && self.sx_scale.abs() <= four && self.sy_scale.abs() <= four;
+        PacketRow { y, clip, rows_inside, up_sy: self.up_sy(vn), up_sy0: self.up_sy([1; W]), small }
     }
 
     /// `up·sy` for the rows `(vn − 1)/2` of each lane.
@@ -376,13 +383,26 @@ impl<S: Scalar> Camera<S> {
         for l in 0..W {
             u.0[l] = S::ratio_by(un[l], &self.width_div);
         }
-        let sx = (u - Lanes::splat(S::ONE)) * self.sx_scale;
-        let base = self.forward.splat::<W>().add_splat_scaled(self.right, sx);
+        // With the row's `small` (a scalar of limited range, `|sx_scale|`
+        // and `|sy_scale|` at most 4) the products and sums take their
+        // short forms, the same bits: `u − 1` lies in (−1, 1), so `sx` and
+        // the unit `right`'s components are at most 4; `forward + right·sx`
+        // is at most 5 in each component, and `up·sy` at most 4 more.
+        let small = S::LIMITED_RANGE && row.small;
+        let u1 = u - Lanes::splat(S::ONE);
+        let base = if small {
+            let sx = u1.mul_small(Lanes::splat(self.sx_scale));
+            self.forward.splat::<W>().add_splat_scaled_small(self.right, sx)
+        } else {
+            self.forward.splat::<W>().add_splat_scaled(self.right, u1 * self.sx_scale)
+        };
         let m = Mask::from_array(inside);
         // `+ up·sy` as `add_splat_scaled` adds it, the row's products.
         let term = |acc: Lanes<S, W>, c: S, t: Lanes<S, W>, t0: Lanes<S, W>| {
             if S::SPARSE_PRODUCTS && c == S::ZERO {
                 acc
+            } else if small {
+                acc.add_small(Lanes::select(m, t, t0))
             } else {
                 acc + Lanes::select(m, t, t0)
             }
@@ -402,7 +422,9 @@ mod tests {
     use super::*;
 
     /// Rays from a packet row's terms are [`Camera::packet`]'s, bit for
-    /// bit, in every lane (active or not), for tilted cameras, clips inside,
+    /// bit, in every lane (active or not), for tilted cameras (in fixed
+    /// point with the short products and sums, and with a field of view
+    /// too wide for them), clips inside,
     /// across and outside the image, every packet position of a band
     /// (including those hanging over the edges) and widths 1 to 16.
     fn rows_agree<S: Scalar + PartialEq + core::fmt::Debug, const W: usize>() {
@@ -411,6 +433,9 @@ mod tests {
             Camera::new(v(0.0, 0.0, 0.0), v(0.0, 0.0, -1.0), v(0.0, 1.0, 0.0), 60.0, 13, 9),
             Camera::new(v(0.3, -0.2, 0.9), v(-0.1, 0.2, -0.4), v(0.2, 1.0, 0.1), 75.0, 13, 9),
             Camera::new(v(0.5, 0.5, 0.5), v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), 40.0, 7, 16),
+            // Screen offsets past 4 (tan 85° ≈ 11.4): the general products
+            // and sums in fixed point.
+            Camera::new(v(0.1, 0.2, 0.3), v(0.4, -0.3, 0.2), v(0.0, 0.0, 1.0), 170.0, 11, 7),
         ];
         for cam in cams.into_iter().map(|c| c.unwrap()) {
             let (w, h) = (cam.width(), cam.height());

@@ -500,6 +500,20 @@ impl<S: Scalar, const W: usize> Vec3xW<S, W> {
             self + v.splat::<W>().scale(s)
         }
     }
+    /// [`Vec3xW::add_splat_scaled`] where `v`'s components and the lanes of
+    /// `s` are at most 4 in magnitude and every sum at most 64, by
+    /// [`Scalar::mul_small`] and [`Scalar::add_small`]: the same bits.
+    #[inline(always)]
+    pub fn add_splat_scaled_small(self, v: Vec3<S>, s: Lanes<S, W>) -> Self {
+        let term = |acc: Lanes<S, W>, c: S| {
+            if S::SPARSE_PRODUCTS && c == S::ZERO {
+                acc
+            } else {
+                acc.add_small(Lanes::splat(c).mul_small(s))
+            }
+        };
+        Vec3::new(term(self.x, v.x), term(self.y, v.y), term(self.z, v.z))
+    }
 }
 
 impl<T: crate::num::bake::Bake> crate::num::bake::Bake for Vec3<T> {
