@@ -702,6 +702,7 @@ impl<S: Scalar> DirectionCells<S> {
     const NONE: Self = DirectionCells { origin: S::ZERO, shift: 0, scale: S::ZERO, cells: [0; DIRECTION_CELLS] };
 
     /// The cells of component `axis` for the entries `row`.
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     fn new(row: &[Occluder<S>], axis: usize) -> Self {
         let mut c = Self::NONE;
         let (mut lo, mut hi) = (f32::MAX, f32::MIN);

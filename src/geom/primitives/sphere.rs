@@ -9,8 +9,10 @@ use crate::num::scalar::Scalar;
 
 /// Whether [`Sphere::roots`] takes its steps without range tests for rays
 /// near the sphere: where a saturating sum costs more than a plain one
-/// (RV32, Armv6-M, 64-bit hosts), not on the Arm cores from Armv7-M on.
-const NEAR_STEPS: bool = !cfg!(target_arch = "arm") || cfg!(armv6m);
+/// (RV32, Armv6-M, 64-bit hosts), not on the Arm cores from Armv7-M on,
+/// and not on WebAssembly, whose `Fixed32` keeps the general product for
+/// small factors (the module's size) and so would only grow.
+const NEAR_STEPS: bool = !cfg!(any(target_arch = "arm", target_arch = "wasm32")) || cfg!(armv6m);
 
 /// A sphere.
 #[derive(Clone, Copy, Debug, PartialEq)]
