@@ -314,9 +314,6 @@ pub struct PacketRow<S, const W: usize> {
     rows_inside: [bool; W],
     up_sy: Vec3<Lanes<S, W>>,
     up_sy0: Vec3<Lanes<S, W>>,
-    /// Whether the packets' terms take their short forms (see
-    /// [`Camera::packet_in_row`]).
-    small: bool,
 }
 
 impl<S: Scalar, const W: usize> PacketRow<S, W> {
@@ -345,11 +342,16 @@ impl<S: Scalar> Camera<S> {
             // lanes outside (below 2·65535 + 1: no overflow).
             vn[l] = if inside { 2 * j + 1 } else { 1 };
         }
-        // Screen offsets of at most 4 (a field of view up to 150° or so):
-        // the short forms' bounds hold (see `packet_in_row`).
+        PacketRow { y, clip, rows_inside, up_sy: self.up_sy(vn), up_sy0: self.up_sy([1; W]) }
+    }
+
+    /// Whether the screen offsets `sx_scale` and `sy_scale` are at most 4
+    /// (a field of view up to about 150°), so that a packet's terms can
+    /// take their short forms ([`Camera::packet_in_row`]).
+    #[inline(always)]
+    fn short_terms(&self) -> bool {
         let four = S::TWO + S::TWO;
-        let small = S::LIMITED_RANGE && self.sx_scale.abs() <= four && self.sy_scale.abs() <= four;
-        PacketRow { y, clip, rows_inside, up_sy: self.up_sy(vn), up_sy0: self.up_sy([1; W]), small }
+        self.sx_scale.abs() <= four && self.sy_scale.abs() <= four
     }
 
     /// `up·sy` for the rows `(vn − 1)/2` of each lane.
@@ -383,12 +385,12 @@ impl<S: Scalar> Camera<S> {
         for l in 0..W {
             u.0[l] = S::ratio_by(un[l], &self.width_div);
         }
-        // With the row's `small` (a scalar of limited range, `|sx_scale|`
-        // and `|sy_scale|` at most 4) the products and sums take their
-        // short forms, the same bits: `u − 1` lies in (−1, 1), so `sx` and
-        // the unit `right`'s components are at most 4; `forward + right·sx`
-        // is at most 5 in each component, and `up·sy` at most 4 more.
-        let small = S::LIMITED_RANGE && row.small;
+        // In a scalar of limited range, with screen offsets of at most 4
+        // ([`Camera::short_terms`]) the products and sums take their short
+        // forms, the same bits: `u − 1` lies in (−1, 1), so `sx` and the
+        // unit `right`'s components are at most 4; `forward + right·sx` is
+        // at most 5 in each component, and `up·sy` at most 4 more.
+        let small = S::LIMITED_RANGE && self.short_terms();
         let u1 = u - Lanes::splat(S::ONE);
         let base = if small {
             let sx = u1.mul_small(Lanes::splat(self.sx_scale));
