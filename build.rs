@@ -17,6 +17,9 @@
 //!   RISC-V with `F` or `D` (read from the triple's ISA string, such as
 //!   `riscv32imafc`, as stable Rust does not report RISC-V's `f` feature
 //!   to `cfg`). Elsewhere `f32` is a library call per operation.
+//! - `rv32_soft_float`: 32-bit RISC-V without `hard_float` (RV32IMAC),
+//!   where the shadow query of a single ray is one out-of-line call and a
+//!   candidate mask's lowest bit comes from a table.
 //!
 //! Nothing else is decided here; the same source builds with or without
 //! these names on every target (they only choose between equal results).
@@ -25,7 +28,7 @@ use std::env;
 
 fn main() {
     println!("cargo::rerun-if-changed=build.rs");
-    for name in ["armv6m", "armv6m_inline_mul", "wide_mul", "div_by_reciprocal", "hard_float"] {
+    for name in ["armv6m", "armv6m_inline_mul", "wide_mul", "div_by_reciprocal", "hard_float", "rv32_soft_float"] {
         println!("cargo::rustc-check-cfg=cfg({name})");
     }
     let arch = env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default();
@@ -62,5 +65,8 @@ fn main() {
         || riscv_float;
     if hard_float {
         println!("cargo::rustc-cfg=hard_float");
+    }
+    if arch == "riscv32" && !hard_float {
+        println!("cargo::rustc-cfg=rv32_soft_float");
     }
 }

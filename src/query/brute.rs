@@ -59,10 +59,7 @@ impl<S: Scalar> Accelerator<S> for BruteForce {
     // (In line on RV32 without hardware floats too, where the tracer's
     // shadow query is one out-of-line call holding it.)
     #[cfg_attr(
-        all(
-            not(debug_assertions),
-            any(target_arch = "x86", target_arch = "x86_64", all(target_arch = "riscv32", not(hard_float)))
-        ),
+        all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64", rv32_soft_float)),
         inline(always)
     )]
     fn transmittance_among<const W: usize>(
@@ -132,10 +129,7 @@ pub(crate) fn transmittance<S: Scalar, const W: usize>(
 /// [`Accelerator::transmittance`] by testing every candidate primitive
 /// (as for [`closest_hit`]) in index order.
 #[cfg_attr(
-    all(
-        not(debug_assertions),
-        any(target_arch = "x86", target_arch = "x86_64", all(target_arch = "riscv32", not(hard_float)))
-    ),
+    all(not(debug_assertions), any(target_arch = "x86", target_arch = "x86_64", rv32_soft_float)),
     inline(always)
 )]
 pub(crate) fn transmittance_among<S: Scalar, const W: usize>(

@@ -115,7 +115,7 @@ impl Iterator for SetBits {
 /// `trailing_zeros`.)
 #[inline(always)]
 pub(crate) fn lowest_bit(bits: u32) -> usize {
-    #[cfg(any(armv6m, all(target_arch = "riscv32", not(hard_float))))]
+    #[cfg(any(armv6m, rv32_soft_float))]
     {
         let low = bits as u8;
         if low != 0 {
@@ -126,7 +126,7 @@ pub(crate) fn lowest_bit(bits: u32) -> usize {
 }
 
 /// `LOWEST_BIT[b]`: the index of `b`'s lowest set bit (0 for 0, never read).
-#[cfg(any(armv6m, all(target_arch = "riscv32", not(hard_float)), test))]
+#[cfg(any(armv6m, rv32_soft_float, test))]
 static LOWEST_BIT: [u8; 256] = {
     let mut t = [0u8; 256];
     let mut b = 1;
@@ -1040,7 +1040,7 @@ impl<S: Scalar> ShadowCull<S> {
         eps: Lanes<S, W>,
         lit: Mask<W>,
     ) -> Candidates {
-        if apart::<S, W>() && !cfg!(all(target_arch = "riscv32", not(hard_float))) {
+        if apart::<S, W>() && !cfg!(rv32_soft_float) {
             self.candidates_apart(light, origin, dir, eps, lit)
         } else {
             self.candidates_here(light, origin, dir, eps, lit, use_cells::<W>())

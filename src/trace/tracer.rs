@@ -33,7 +33,7 @@ use heapless::Vec as HVec;
 /// line in the tracer, the `fixed32` frame took 0.53 M instructions more
 /// and `f32` 0.42 M; on the Cortex-M4F `f32` 0.70 M more; on the
 /// Cortex-M55 width 1 alone gained (0.07 M, `fixed32` 0.34 M).
-const SHADOW_QUERY_APART: bool = cfg!(all(target_arch = "riscv32", not(hard_float)));
+const SHADOW_QUERY_APART: bool = cfg!(rv32_soft_float);
 
 /// How rays are traced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
